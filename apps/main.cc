@@ -1,0 +1,35 @@
+// The `u4d` command: a table of subcommands (apps/commands.h).
+#include <cstdio>
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include "apps/commands.h"
+#include "u4d/util/check.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"U4D: unsupervised 4D dynamic scene understanding from multi-view video"};
+  app.require_subcommand(1);
+  bool verbose = false;
+  app.add_flag("-v,--verbose", verbose, "print detail");
+  for (const u4d::apps::Command& command : u4d::apps::Commands()) {
+    CLI::App* sub = app.add_subcommand(command.name, command.help);
+    command.setup(*sub);
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info);
+  for (const u4d::apps::Command& command : u4d::apps::Commands()) {
+    if (!app.got_subcommand(command.name)) continue;
+    try {
+      return command.run();
+    } catch (const u4d::Error& e) {
+      std::fprintf(stderr, "u4d %s: error: %s\n", command.name.c_str(), e.what());
+      return 2;
+    }
+  }
+  return 1;
+}

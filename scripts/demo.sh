@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# The main job: set up, build, then `u4d demo` (synthesise a capture, run the
+# pipeline as far as it exists, evaluate, print a summary) into out/demo.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+bash scripts/build.sh
+export OMP_WAIT_POLICY=passive
+./build/apps/u4d demo -o "${1:-out/demo}"

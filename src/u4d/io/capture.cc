@@ -1,0 +1,213 @@
+#include "u4d/io/capture.h"
+
+#include <set>
+
+#include "u4d/util/check.h"
+
+namespace u4d {
+
+std::string ToString(SceneType type) { return type == SceneType::kIndoor ? "indoor" : "outdoor"; }
+
+SceneType SceneTypeFromString(const std::string& s, const std::string& context) {
+  if (s == "indoor") return SceneType::kIndoor;
+  if (s == "outdoor") return SceneType::kOutdoor;
+  ThrowError(fmt::format("{}: scene must be 'indoor' or 'outdoor', found '{}'", context, s));
+}
+
+const Camera& CaptureView::CameraAt(int frame) const {
+  U4D_ASSERT(!cameras.empty());
+  if (cameras.size() == 1) return cameras[0];
+  U4D_CHECK(frame >= 0 && frame < static_cast<int>(cameras.size()),
+            "view {}: no camera for frame {} (have {})", name, frame, cameras.size());
+  return cameras[frame];
+}
+
+int Capture::ViewIndex(const std::string& view_name) const {
+  for (int i = 0; i < NumViews(); ++i)
+    if (views[i].name == view_name) return i;
+  ThrowError(fmt::format("capture {}: no view named '{}'", name, view_name));
+}
+
+fs::path Capture::ImagePath(int view, int frame) const {
+  const FrameSource& src = views.at(view).source;
+  U4D_CHECK(src.kind == FrameSource::Kind::kImages, "view {} is a video, not images",
+            views[view].name);
+  U4D_CHECK(frame >= 0 && frame < num_frames, "frame {} out of range [0, {})", frame, num_frames);
+  if (!src.files.empty()) return root / src.files.at(frame);
+  return root / fmt::format(fmt::runtime(src.path), frame + src.first_index);
+}
+
+void Capture::Check(const std::string& context) const {
+  U4D_CHECK(!views.empty(), "{}: the capture has no views", context);
+  U4D_CHECK(num_frames > 0, "{}: num_frames must be positive, found {}", context, num_frames);
+  U4D_CHECK(fps > 0 && std::isfinite(fps), "{}: fps must be positive, found {}", context, fps);
+  std::set<std::string> names;
+  for (const CaptureView& v : views) {
+    U4D_CHECK(!v.name.empty(), "{}: a view has an empty name", context);
+    U4D_CHECK(names.insert(v.name).second, "{}: duplicate view name '{}'", context, v.name);
+    U4D_CHECK(!v.cameras.empty(), "{}: view {} has no camera", context, v.name);
+    U4D_CHECK(v.cameras.size() == 1 || static_cast<int>(v.cameras.size()) == num_frames,
+              "{}: moving view {} has {} cameras but the capture has {} frames", context, v.name,
+              v.cameras.size(), num_frames);
+    for (size_t i = 0; i < v.cameras.size(); ++i)
+      v.cameras[i].Check(fmt::format("{}: view {} camera {}", context, v.name, i));
+    if (v.source.kind == FrameSource::Kind::kImages && !v.source.files.empty()) {
+      U4D_CHECK(static_cast<int>(v.source.files.size()) == num_frames,
+                "{}: view {} lists {} frame files but the capture has {} frames", context, v.name,
+                v.source.files.size(), num_frames);
+    }
+  }
+}
+
+namespace {
+
+std::vector<double> FlatList(const nlohmann::json& j, size_t n, const std::string& context,
+                             const std::string& key) {
+  U4D_CHECK(j.contains(key), "{}: missing '{}'", context, key);
+  const nlohmann::json& v = j.at(key);
+  std::vector<double> out;
+  auto push = [&](const nlohmann::json& x) {
+    U4D_CHECK(x.is_number(), "{}: '{}' must hold numbers", context, key);
+    out.push_back(x.get<double>());
+  };
+  U4D_CHECK(v.is_array(), "{}: '{}' must be an array", context, key);
+  for (const auto& x : v) {
+    if (x.is_array()) {
+      for (const auto& y : x) push(y);
+    } else {
+      push(x);
+    }
+  }
+  U4D_CHECK(out.size() == n, "{}: '{}' must have {} numbers, found {}", context, key, n, out.size());
+  for (double d : out) U4D_CHECK(std::isfinite(d), "{}: '{}' has a non-finite value", context, key);
+  return out;
+}
+
+}  // namespace
+
+Camera CameraFromJson(const nlohmann::json& j, const std::string& context) {
+  Camera cam;
+  cam.width = JsonGet<int>(j, "width", context);
+  cam.height = JsonGet<int>(j, "height", context);
+  const auto k = FlatList(j, 9, context, "K");
+  for (int i = 0; i < 9; ++i) cam.K(i / 3, i % 3) = k[i];
+  if (j.contains("dist")) {
+    const auto d = FlatList(j, 5, context, "dist");
+    for (int i = 0; i < 5; ++i) cam.dist[i] = d[i];
+  }
+  const auto r = FlatList(j, 9, context, "R");
+  for (int i = 0; i < 9; ++i) cam.cam_from_world.rotation(i / 3, i % 3) = r[i];
+  const auto t = FlatList(j, 3, context, "t");
+  cam.cam_from_world.translation = {t[0], t[1], t[2]};
+  cam.Check(context);
+  return cam;
+}
+
+nlohmann::json CameraToJson(const Camera& cam) {
+  nlohmann::json j;
+  j["width"] = cam.width;
+  j["height"] = cam.height;
+  j["K"] = {{cam.K(0, 0), cam.K(0, 1), cam.K(0, 2)},
+            {cam.K(1, 0), cam.K(1, 1), cam.K(1, 2)},
+            {cam.K(2, 0), cam.K(2, 1), cam.K(2, 2)}};
+  j["dist"] = cam.dist;
+  const Eigen::Matrix3d& r = cam.cam_from_world.rotation;
+  j["R"] = {{r(0, 0), r(0, 1), r(0, 2)}, {r(1, 0), r(1, 1), r(1, 2)}, {r(2, 0), r(2, 1), r(2, 2)}};
+  const Eigen::Vector3d& t = cam.cam_from_world.translation;
+  j["t"] = {t.x(), t.y(), t.z()};
+  return j;
+}
+
+nlohmann::json CalibrationToJson(const Capture& capture) {
+  nlohmann::json cams = nlohmann::json::array();
+  for (const CaptureView& v : capture.views) {
+    nlohmann::json c;
+    c["view"] = v.name;
+    if (v.IsMoving()) {
+      c["per_frame"] = nlohmann::json::array();
+      for (const Camera& cam : v.cameras) c["per_frame"].push_back(CameraToJson(cam));
+    } else {
+      c.update(CameraToJson(v.cameras[0]));
+    }
+    cams.push_back(c);
+  }
+  return {{"format", "u4d-calibration"}, {"version", 1}, {"units", "metres"},
+          {"convention", "cam_from_world: x_cam = R x_world + t; OpenCV distortion k1 k2 p1 p2 k3"},
+          {"cameras", cams}};
+}
+
+Capture ReadCapture(const fs::path& dir) {
+  CheckDirExists(dir, "capture directory");
+  const fs::path manifest_path = dir / "capture.json";
+  const fs::path calib_path = dir / "calibration.json";
+  const nlohmann::json m = ReadJsonFile(manifest_path);
+  const std::string mctx = manifest_path.string();
+  U4D_CHECK(m.value("format", "") == "u4d-capture", "{}: 'format' must be 'u4d-capture'", mctx);
+
+  Capture capture;
+  capture.root = dir;
+  capture.name = m.value("name", dir.filename().string());
+  capture.scene = SceneTypeFromString(m.value("scene", "indoor"), mctx);
+  capture.fps = JsonGet<double>(m, "fps", mctx);
+  capture.num_frames = JsonGet<int>(m, "num_frames", mctx);
+  if (m.contains("classes")) capture.classes = JsonGet<std::vector<std::string>>(m, "classes", mctx);
+  const auto& views = m.at("views");
+  U4D_CHECK(views.is_array(), "{}: 'views' must be an array", mctx);
+
+  const nlohmann::json calib = ReadJsonFile(calib_path);
+  const std::string cctx = calib_path.string();
+  U4D_CHECK(calib.contains("cameras") && calib["cameras"].is_array(),
+            "{}: missing 'cameras' array", cctx);
+  for (const auto& vj : views) {
+    CaptureView view;
+    view.name = JsonGet<std::string>(vj, "name", mctx);
+    const std::string kind = vj.value("source", "images");
+    U4D_CHECK(kind == "images" || kind == "video", "{}: view {}: source must be images or video",
+              mctx, view.name);
+    view.source.kind = kind == "images" ? FrameSource::Kind::kImages : FrameSource::Kind::kVideo;
+    view.source.path = vj.value("path", "");
+    view.source.first_index = vj.value("first_index", 0);
+    if (vj.contains("files")) view.source.files = JsonGet<std::vector<std::string>>(vj, "files", mctx);
+    U4D_CHECK(!view.source.path.empty() || !view.source.files.empty(),
+              "{}: view {} has neither 'path' nor 'files'", mctx, view.name);
+    bool found = false;
+    for (const auto& cj : calib["cameras"]) {
+      if (cj.value("view", "") != view.name) continue;
+      const std::string ctx = fmt::format("{}: view {}", cctx, view.name);
+      if (cj.contains("per_frame")) {
+        int i = 0;
+        for (const auto& pj : cj["per_frame"])
+          view.cameras.push_back(CameraFromJson(pj, fmt::format("{} frame {}", ctx, i++)));
+      } else {
+        view.cameras.push_back(CameraFromJson(cj, ctx));
+      }
+      found = true;
+    }
+    U4D_CHECK(found, "{}: no camera for view '{}' listed in {}", cctx, view.name, mctx);
+    capture.views.push_back(std::move(view));
+  }
+  capture.Check(mctx);
+  return capture;
+}
+
+void WriteCapture(const Capture& capture, const fs::path& dir) {
+  capture.Check("WriteCapture(" + dir.string() + ")");
+  nlohmann::json views = nlohmann::json::array();
+  for (const CaptureView& v : capture.views) {
+    nlohmann::json vj = {{"name", v.name},
+                         {"source", v.source.kind == FrameSource::Kind::kImages ? "images" : "video"},
+                         {"moving", v.IsMoving()}};
+    if (!v.source.path.empty()) vj["path"] = v.source.path;
+    if (!v.source.files.empty()) vj["files"] = v.source.files;
+    if (v.source.first_index != 0) vj["first_index"] = v.source.first_index;
+    views.push_back(vj);
+  }
+  const nlohmann::json manifest = {{"format", "u4d-capture"}, {"version", 1},
+                                   {"name", capture.name},    {"scene", ToString(capture.scene)},
+                                   {"fps", capture.fps},      {"num_frames", capture.num_frames},
+                                   {"classes", capture.classes}, {"views", views}};
+  WriteJsonFileAtomic(dir / "calibration.json", CalibrationToJson(capture));
+  WriteJsonFileAtomic(dir / "capture.json", manifest);
+}
+
+}  // namespace u4d

@@ -1,0 +1,96 @@
+#include "u4d/io/capture.h"
+
+#include <gtest/gtest.h>
+
+#include "u4d/io/frame_reader.h"
+#include "u4d/io/image_io.h"
+#include "u4d/io/layout.h"
+#include "u4d/util/check.h"
+
+namespace u4d {
+namespace {
+
+fs::path FreshDir(const std::string& name) {
+  fs::path dir = fs::temp_directory_path() / ("u4d_capture_test_" + std::to_string(::getpid())) /
+                 name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+Capture TwoViewCapture() {
+  Capture c;
+  c.name = "tiny";
+  c.num_frames = 2;
+  c.fps = 30;
+  for (int v = 0; v < 2; ++v) {
+    CaptureView view;
+    view.name = "cam" + std::to_string(v);
+    Camera cam;
+    cam.width = 8;
+    cam.height = 6;
+    cam.K << 10, 0, 4, 0, 10, 3, 0, 0, 1;
+    cam.cam_from_world.translation = {0.1 * v, 0, 2};
+    view.cameras = {cam};
+    view.source.path = "images/" + view.name + "/{:06d}.png";
+    c.views.push_back(view);
+  }
+  return c;
+}
+
+TEST(Capture, RoundTripAndFrames) {
+  const fs::path dir = FreshDir("roundtrip");
+  Capture c = TwoViewCapture();
+  WriteCapture(c, dir);
+  for (int v = 0; v < 2; ++v)
+    for (int f = 0; f < 2; ++f)
+      WriteImage(dir / layout::Image(c.views[v].name, f), cv::Mat(6, 8, CV_8UC3, cv::Scalar(f)));
+  const Capture back = ReadCapture(dir);
+  ASSERT_EQ(back.NumViews(), 2);
+  EXPECT_EQ(back.num_frames, 2);
+  EXPECT_LT((back.views[1].cameras[0].K - c.views[1].cameras[0].K).norm(), 1e-12);
+  FrameReader reader(back);
+  EXPECT_EQ(reader.Read(1, 1).at<cv::Vec3b>(0, 0)[0], 1);
+}
+
+TEST(Capture, BadInputsNameTheProblem) {
+  const fs::path dir = FreshDir("bad");
+  Capture c = TwoViewCapture();
+  WriteCapture(c, dir);
+  // Missing frame file: the error names it.
+  FrameReader reader(ReadCapture(dir));
+  try {
+    reader.Read(0, 1);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("000001.png"), std::string::npos) << e.what();
+  }
+  // Wrong image size.
+  WriteImage(dir / layout::Image("cam0", 0), cv::Mat(5, 8, CV_8UC3));
+  EXPECT_THROW(reader.Read(0, 0), Error);
+
+  // NaN in K.
+  nlohmann::json calib = ReadJsonFile(dir / "calibration.json");
+  calib["cameras"][0]["K"][0][0] = nullptr;
+  WriteJsonFileAtomic(dir / "calibration.json", calib);
+  EXPECT_THROW(ReadCapture(dir), Error);
+
+  // Wrong matrix size.
+  calib = CalibrationToJson(c);
+  calib["cameras"][1]["R"] = {1, 0, 0, 0, 1, 0};
+  WriteJsonFileAtomic(dir / "calibration.json", calib);
+  try {
+    ReadCapture(dir);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'R' must have 9 numbers, found 6"), std::string::npos)
+        << e.what();
+  }
+
+  // Moving camera with a frame-count mismatch.
+  c.views[0].cameras.resize(3, c.views[0].cameras[0]);
+  EXPECT_THROW(c.Check("test"), Error);
+}
+
+}  // namespace
+}  // namespace u4d

@@ -1,0 +1,82 @@
+#include "u4d/io/image_io.h"
+
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "u4d/util/check.h"
+
+namespace u4d {
+namespace {
+
+fs::path TempDir() {
+  fs::path dir = fs::temp_directory_path() / ("u4d_image_io_test_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir;
+}
+
+void ExpectErrorMentions(const std::function<void()>& f, const std::string& needle) {
+  try {
+    f();
+    FAIL() << "expected u4d::Error mentioning " << needle;
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+  }
+}
+
+TEST(ImageIo, FloRoundTripAndRealSintel) {
+  cv::Mat flow(7, 5, CV_32FC2);
+  cv::randu(flow, -10, 10);
+  const fs::path path = TempDir() / "a.flo";
+  WriteFlo(path, flow);
+  cv::Mat back = ReadFlo(path);
+  EXPECT_EQ(cv::norm(flow, back, cv::NORM_INF), 0.0);
+
+  // Real MPI-Sintel ground truth: 1024x436, plausible magnitudes.
+  const fs::path sintel = fs::path(U4D_SHARED_DATA_DIR) / "sintel_flow/clean/easy/gt/frame_0002.flo";
+  cv::Mat gt = ReadFlo(sintel);
+  EXPECT_EQ(gt.cols, 1024);
+  EXPECT_EQ(gt.rows, 436);
+  double lo = 0, hi = 0;
+  cv::minMaxLoc(gt.reshape(1), &lo, &hi);
+  EXPECT_GT(hi - lo, 1.0);
+  EXPECT_LT(std::max(std::abs(lo), std::abs(hi)), 1000.0);
+}
+
+TEST(ImageIo, PfmRoundTrip) {
+  cv::Mat depth(6, 9, CV_32FC1);
+  cv::randu(depth, 0.5, 8.0);
+  depth.at<float>(2, 3) = 0.0f;
+  const fs::path path = TempDir() / "d.pfm";
+  WritePfm(path, depth);
+  EXPECT_EQ(cv::norm(depth, ReadPfm(path), cv::NORM_INF), 0.0);
+}
+
+TEST(ImageIo, BadFilesGiveClearErrors) {
+  const fs::path dir = TempDir();
+  ExpectErrorMentions([&] { ReadColorImage(dir / "missing.png"); }, "missing.png");
+  {
+    std::ofstream(dir / "corrupt.png") << "not a png at all";
+  }
+  ExpectErrorMentions([&] { ReadColorImage(dir / "corrupt.png"); }, "corrupt");
+  {
+    std::ofstream(dir / "bad.flo") << "PIEH";
+  }
+  ExpectErrorMentions([&] { ReadFlo(dir / "bad.flo"); }, "bad.flo");
+  // A truncated .flo: valid header, too little data.
+  {
+    std::ofstream out(dir / "short.flo", std::ios::binary);
+    const float magic = 202021.25f;
+    const int32_t w = 100, h = 100;
+    out.write(reinterpret_cast<const char*>(&magic), 4);
+    out.write(reinterpret_cast<const char*>(&w), 4);
+    out.write(reinterpret_cast<const char*>(&h), 4);
+    out << "xxxx";
+  }
+  ExpectErrorMentions([&] { ReadFlo(dir / "short.flo"); }, "truncated");
+  ExpectErrorMentions([&] { CheckImageSize(cv::Mat(4, 5, CV_8UC1), 6, 4, "img.png"); },
+                      "expected size 6x4, found 5x4");
+}
+
+}  // namespace
+}  // namespace u4d

@@ -1,0 +1,58 @@
+#include "u4d/io/instance_mask.h"
+
+#include <set>
+
+#include "u4d/io/image_io.h"
+#include "u4d/util/check.h"
+
+namespace u4d {
+
+const InstanceInfo* InstanceMask::Find(int id) const {
+  for (const InstanceInfo& info : instances)
+    if (info.id == id) return &info;
+  return nullptr;
+}
+
+InstanceMask ReadInstanceMask(const fs::path& png, const fs::path& json) {
+  InstanceMask mask;
+  mask.ids = ReadLabelImage(png);
+  const nlohmann::json j = ReadJsonFile(json);
+  const std::string ctx = json.string();
+  U4D_CHECK(j.contains("instances") && j["instances"].is_array(), "{}: missing 'instances' array",
+            ctx);
+  std::set<int> listed;
+  for (const auto& ij : j["instances"]) {
+    InstanceInfo info;
+    info.id = JsonGet<int>(ij, "id", ctx);
+    info.label = ij.value("class", "person");
+    info.score = ij.value("score", 1.0);
+    U4D_CHECK(info.id >= 1 && info.id < 65536, "{}: instance id {} out of range [1, 65535]", ctx,
+              info.id);
+    U4D_CHECK(std::isfinite(info.score) && info.score >= 0 && info.score <= 1,
+              "{}: instance {} has score {} outside [0, 1]", ctx, info.id, info.score);
+    U4D_CHECK(listed.insert(info.id).second, "{}: instance id {} listed twice", ctx, info.id);
+    mask.instances.push_back(info);
+  }
+  std::set<int> present;
+  for (int y = 0; y < mask.ids.rows; ++y) {
+    const uint16_t* row = mask.ids.ptr<uint16_t>(y);
+    for (int x = 0; x < mask.ids.cols; ++x)
+      if (row[x] != 0) present.insert(row[x]);
+  }
+  for (int id : present)
+    U4D_CHECK(listed.count(id), "{}: id {} appears in {} but is not listed", ctx, id,
+              png.filename().string());
+  return mask;
+}
+
+void WriteInstanceMask(const fs::path& png, const fs::path& json, const InstanceMask& mask) {
+  U4D_CHECK(mask.ids.type() == CV_16UC1, "WriteInstanceMask({}): ids must be CV_16UC1",
+            png.string());
+  nlohmann::json inst = nlohmann::json::array();
+  for (const InstanceInfo& info : mask.instances)
+    inst.push_back({{"id", info.id}, {"class", info.label}, {"score", info.score}});
+  WriteImage(png, mask.ids);
+  WriteJsonFileAtomic(json, {{"instances", inst}});
+}
+
+}  // namespace u4d

@@ -1,0 +1,46 @@
+#include "u4d/io/layout.h"
+
+#include <fmt/format.h>
+
+namespace u4d::layout {
+
+std::string FrameName(int frame) { return fmt::format("{:06d}", frame); }
+
+fs::path Image(const std::string& view, int frame) {
+  return fs::path("images") / view / (FrameName(frame) + ".png");
+}
+fs::path Mask(const std::string& view, int frame) {
+  return fs::path("masks") / view / (FrameName(frame) + ".png");
+}
+fs::path MaskInfo(const std::string& view, int frame) {
+  return fs::path("masks") / view / (FrameName(frame) + ".json");
+}
+fs::path Poses2d(const std::string& view, int frame) {
+  return fs::path("poses2d") / view / (FrameName(frame) + ".json");
+}
+fs::path Poses3d(int frame) { return fs::path("poses3d") / (FrameName(frame) + ".json"); }
+
+fs::path GtInstances(const std::string& view, int frame) {
+  return fs::path("gt/instances") / view / (FrameName(frame) + ".png");
+}
+fs::path GtInstancesInfo(const std::string& view, int frame) {
+  return fs::path("gt/instances") / view / (FrameName(frame) + ".json");
+}
+fs::path GtDepth(const std::string& view, int frame) {
+  return fs::path("gt/depth") / view / (FrameName(frame) + ".pfm");
+}
+fs::path GtFlow(const std::string& view, int frame) {
+  return fs::path("gt/flow") / view / (FrameName(frame) + ".flo");
+}
+fs::path GtFlowValid(const std::string& view, int frame) {
+  return fs::path("gt/flow_valid") / view / (FrameName(frame) + ".png");
+}
+fs::path GtVisibility(const std::string& view, int frame) {
+  return fs::path("gt/visibility") / view / (FrameName(frame) + ".json");
+}
+fs::path GtJoints3d(int frame) { return fs::path("gt/joints3d") / (FrameName(frame) + ".json"); }
+fs::path GtMesh(int object_id, int frame) {
+  return fs::path("gt/meshes") / fmt::format("{:02d}", object_id) / (FrameName(frame) + ".ply");
+}
+
+}  // namespace u4d::layout

@@ -1,0 +1,42 @@
+// File helpers with the project's error and durability rules:
+//  - every read failure throws u4d::Error naming the path and the problem;
+//  - every write goes to "<path>.tmp-<pid>" first and is renamed into place,
+//    so a crash never leaves a half-written file under the final name.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace u4d {
+
+namespace fs = std::filesystem;
+
+// Throws if `path` does not exist or is not a regular file.
+void CheckFileExists(const fs::path& path, const std::string& what = "file");
+// Throws if `path` does not exist or is not a directory.
+void CheckDirExists(const fs::path& path, const std::string& what = "directory");
+
+std::string ReadTextFile(const fs::path& path);
+
+// Parses JSON; a syntax error is reported with the file name and position.
+nlohmann::json ReadJsonFile(const fs::path& path);
+
+// Writes by calling `write_to(tmp_path)`, then renames tmp onto `path`.
+// Parent directories are created. If write_to throws, the temporary file is
+// removed and the previous content of `path` (if any) is untouched.
+void WriteAtomically(const fs::path& path, const std::function<void(const fs::path&)>& write_to);
+
+void WriteTextFileAtomic(const fs::path& path, const std::string& text);
+void WriteJsonFileAtomic(const fs::path& path, const nlohmann::json& json, int indent = 1);
+
+// Typed access to a JSON field with an error naming `context` (usually the
+// file) and the key when the field is missing or has the wrong type.
+template <typename T>
+T JsonGet(const nlohmann::json& j, const std::string& key, const std::string& context);
+
+}  // namespace u4d
+
+#include "u4d/util/file_inl.h"

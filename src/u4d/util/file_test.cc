@@ -1,0 +1,60 @@
+#include "u4d/util/file.h"
+
+#include <gtest/gtest.h>
+
+namespace u4d {
+namespace {
+
+fs::path TempDir() {
+  fs::path dir = fs::temp_directory_path() / ("u4d_file_test_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir;
+}
+
+TEST(File, MissingFileNamesThePath) {
+  try {
+    ReadJsonFile("/nonexistent/u4d/thing.json");
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/u4d/thing.json"), std::string::npos);
+  }
+}
+
+TEST(File, CorruptJsonNamesTheFile) {
+  const fs::path path = TempDir() / "bad.json";
+  WriteTextFileAtomic(path, "{\"a\": [1, 2");
+  try {
+    ReadJsonFile(path);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.json"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("invalid JSON"), std::string::npos);
+  }
+}
+
+TEST(File, FailedAtomicWriteKeepsOldContent) {
+  const fs::path path = TempDir() / "keep.txt";
+  WriteTextFileAtomic(path, "old");
+  EXPECT_THROW(WriteAtomically(path, [](const fs::path&) { ThrowError("writer failed"); }), Error);
+  EXPECT_EQ(ReadTextFile(path), "old");
+  // No temporary file left behind.
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(path.parent_path())) {
+    (void)entry;
+    ++count;
+  }
+  EXPECT_GE(count, 1);
+  for (const auto& entry : fs::directory_iterator(path.parent_path())) {
+    EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos);
+  }
+}
+
+TEST(File, JsonGetReportsMissingAndWrongType) {
+  nlohmann::json j = {{"a", 1}};
+  EXPECT_EQ(JsonGet<int>(j, "a", "ctx"), 1);
+  EXPECT_THROW(JsonGet<int>(j, "b", "ctx"), Error);
+  EXPECT_THROW(JsonGet<std::string>(j, "a", "ctx"), Error);
+}
+
+}  // namespace
+}  // namespace u4d
