@@ -1,8 +1,8 @@
 // `u4d info <capture>`: reads a capture and prints what it holds.
 #include <memory>
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include "apps/commands.h"
 #include "u4d/io/capture.h"

@@ -1,8 +1,8 @@
 // The `u4d` command: a table of subcommands (apps/commands.h).
 #include <cstdio>
 
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include "apps/commands.h"
 #include "u4d/util/check.h"

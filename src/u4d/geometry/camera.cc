@@ -15,7 +15,8 @@ void Camera::Check(const std::string& context) const {
             context, K(0, 0), K(1, 1));
   U4D_CHECK(K(1, 0) == 0 && K(2, 0) == 0 && K(2, 1) == 0 && K(2, 2) == 1,
             "{}: K must be upper triangular with K(2,2)=1", context);
-  for (double d : dist) U4D_CHECK(std::isfinite(d), "{}: distortion has a non-finite value", context);
+  for (double d : dist)
+    U4D_CHECK(std::isfinite(d), "{}: distortion has a non-finite value", context);
   U4D_CHECK(cam_from_world.translation.allFinite(), "{}: translation has a non-finite value",
             context);
   U4D_CHECK(IsRotation(cam_from_world.rotation, 1e-4),
@@ -33,9 +34,7 @@ Eigen::Vector3d Camera::Center() const {
   return -cam_from_world.rotation.transpose() * cam_from_world.translation;
 }
 
-Eigen::Vector3d Camera::ViewDirection() const {
-  return cam_from_world.rotation.transpose().col(2);
-}
+Eigen::Vector3d Camera::ViewDirection() const { return cam_from_world.rotation.transpose().col(2); }
 
 Eigen::Vector2d Distort(const std::array<double, 5>& d, const Eigen::Vector2d& n) {
   const double x = n.x(), y = n.y();

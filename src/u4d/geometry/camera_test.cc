@@ -74,8 +74,8 @@ TEST(Camera, CheckRejectsBadInput) {
 TEST(Geometry, TriangulationAndEpipolarAreExact) {
   const Camera a = MakeCamera(0.0, true), b = MakeCamera(0.7, true), c = MakeCamera(-0.6, false);
   const Eigen::Vector3d point(0.1, 0.25, -0.2);
-  std::vector<Observation> obs = {{&a, a.Project(point)}, {&b, b.Project(point)},
-                                  {&c, c.Project(point)}};
+  std::vector<Observation> obs = {
+      {&a, a.Project(point)}, {&b, b.Project(point)}, {&c, c.Project(point)}};
   EXPECT_LT((TriangulateDlt(obs) - point).norm(), 1e-8);
   EXPECT_LT(ReprojectionRmse(point, obs), 1e-8);
   const Eigen::Matrix3d f = FundamentalFromCameras(a, b);

@@ -29,7 +29,8 @@ Eigen::Vector3d TriangulateDlt(const std::vector<Observation>& observations) {
   return x.head<3>() / x(3);
 }
 
-double ReprojectionRmse(const Eigen::Vector3d& point, const std::vector<Observation>& observations) {
+double ReprojectionRmse(const Eigen::Vector3d& point,
+                        const std::vector<Observation>& observations) {
   double sum = 0;
   for (const Observation& obs : observations) {
     sum += (obs.camera->Project(point) - obs.pixel).squaredNorm();

@@ -78,7 +78,8 @@ std::vector<double> FlatList(const nlohmann::json& j, size_t n, const std::strin
       push(x);
     }
   }
-  U4D_CHECK(out.size() == n, "{}: '{}' must have {} numbers, found {}", context, key, n, out.size());
+  U4D_CHECK(out.size() == n, "{}: '{}' must have {} numbers, found {}", context, key, n,
+            out.size());
   for (double d : out) U4D_CHECK(std::isfinite(d), "{}: '{}' has a non-finite value", context, key);
   return out;
 }
@@ -131,7 +132,9 @@ nlohmann::json CalibrationToJson(const Capture& capture) {
     }
     cams.push_back(c);
   }
-  return {{"format", "u4d-calibration"}, {"version", 1}, {"units", "metres"},
+  return {{"format", "u4d-calibration"},
+          {"version", 1},
+          {"units", "metres"},
           {"convention", "cam_from_world: x_cam = R x_world + t; OpenCV distortion k1 k2 p1 p2 k3"},
           {"cameras", cams}};
 }
@@ -150,14 +153,15 @@ Capture ReadCapture(const fs::path& dir) {
   capture.scene = SceneTypeFromString(m.value("scene", "indoor"), mctx);
   capture.fps = JsonGet<double>(m, "fps", mctx);
   capture.num_frames = JsonGet<int>(m, "num_frames", mctx);
-  if (m.contains("classes")) capture.classes = JsonGet<std::vector<std::string>>(m, "classes", mctx);
+  if (m.contains("classes"))
+    capture.classes = JsonGet<std::vector<std::string>>(m, "classes", mctx);
   const auto& views = m.at("views");
   U4D_CHECK(views.is_array(), "{}: 'views' must be an array", mctx);
 
   const nlohmann::json calib = ReadJsonFile(calib_path);
   const std::string cctx = calib_path.string();
-  U4D_CHECK(calib.contains("cameras") && calib["cameras"].is_array(),
-            "{}: missing 'cameras' array", cctx);
+  U4D_CHECK(calib.contains("cameras") && calib["cameras"].is_array(), "{}: missing 'cameras' array",
+            cctx);
   for (const auto& vj : views) {
     CaptureView view;
     view.name = JsonGet<std::string>(vj, "name", mctx);
@@ -167,7 +171,8 @@ Capture ReadCapture(const fs::path& dir) {
     view.source.kind = kind == "images" ? FrameSource::Kind::kImages : FrameSource::Kind::kVideo;
     view.source.path = vj.value("path", "");
     view.source.first_index = vj.value("first_index", 0);
-    if (vj.contains("files")) view.source.files = JsonGet<std::vector<std::string>>(vj, "files", mctx);
+    if (vj.contains("files"))
+      view.source.files = JsonGet<std::vector<std::string>>(vj, "files", mctx);
     U4D_CHECK(!view.source.path.empty() || !view.source.files.empty(),
               "{}: view {} has neither 'path' nor 'files'", mctx, view.name);
     bool found = false;
@@ -194,17 +199,18 @@ void WriteCapture(const Capture& capture, const fs::path& dir) {
   capture.Check("WriteCapture(" + dir.string() + ")");
   nlohmann::json views = nlohmann::json::array();
   for (const CaptureView& v : capture.views) {
-    nlohmann::json vj = {{"name", v.name},
-                         {"source", v.source.kind == FrameSource::Kind::kImages ? "images" : "video"},
-                         {"moving", v.IsMoving()}};
+    nlohmann::json vj = {
+        {"name", v.name},
+        {"source", v.source.kind == FrameSource::Kind::kImages ? "images" : "video"},
+        {"moving", v.IsMoving()}};
     if (!v.source.path.empty()) vj["path"] = v.source.path;
     if (!v.source.files.empty()) vj["files"] = v.source.files;
     if (v.source.first_index != 0) vj["first_index"] = v.source.first_index;
     views.push_back(vj);
   }
-  const nlohmann::json manifest = {{"format", "u4d-capture"}, {"version", 1},
-                                   {"name", capture.name},    {"scene", ToString(capture.scene)},
-                                   {"fps", capture.fps},      {"num_frames", capture.num_frames},
+  const nlohmann::json manifest = {{"format", "u4d-capture"},    {"version", 1},
+                                   {"name", capture.name},       {"scene", ToString(capture.scene)},
+                                   {"fps", capture.fps},         {"num_frames", capture.num_frames},
                                    {"classes", capture.classes}, {"views", views}};
   WriteJsonFileAtomic(dir / "calibration.json", CalibrationToJson(capture));
   WriteJsonFileAtomic(dir / "capture.json", manifest);

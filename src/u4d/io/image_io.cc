@@ -99,7 +99,8 @@ void WritePfm(const fs::path& path, const cv::Mat& image_in) {
         << image.cols << " " << image.rows << "\n-1\n";
     const size_t row_bytes = static_cast<size_t>(image.cols) * image.channels() * sizeof(float);
     for (int y = image.rows - 1; y >= 0; --y)
-      out.write(reinterpret_cast<const char*>(image.ptr(y)), static_cast<std::streamsize>(row_bytes));
+      out.write(reinterpret_cast<const char*>(image.ptr(y)),
+                static_cast<std::streamsize>(row_bytes));
     U4D_CHECK(out.good(), "failed writing {}", tmp.string());
   });
 }

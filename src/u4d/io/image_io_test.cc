@@ -33,7 +33,8 @@ TEST(ImageIo, FloRoundTripAndRealSintel) {
   EXPECT_EQ(cv::norm(flow, back, cv::NORM_INF), 0.0);
 
   // Real MPI-Sintel ground truth: 1024x436, plausible magnitudes.
-  const fs::path sintel = fs::path(U4D_SHARED_DATA_DIR) / "sintel_flow/clean/easy/gt/frame_0002.flo";
+  const fs::path sintel =
+      fs::path(U4D_SHARED_DATA_DIR) / "sintel_flow/clean/easy/gt/frame_0002.flo";
   cv::Mat gt = ReadFlo(sintel);
   EXPECT_EQ(gt.cols, 1024);
   EXPECT_EQ(gt.rows, 436);
@@ -55,13 +56,9 @@ TEST(ImageIo, PfmRoundTrip) {
 TEST(ImageIo, BadFilesGiveClearErrors) {
   const fs::path dir = TempDir();
   ExpectErrorMentions([&] { ReadColorImage(dir / "missing.png"); }, "missing.png");
-  {
-    std::ofstream(dir / "corrupt.png") << "not a png at all";
-  }
+  { std::ofstream(dir / "corrupt.png") << "not a png at all"; }
   ExpectErrorMentions([&] { ReadColorImage(dir / "corrupt.png"); }, "corrupt");
-  {
-    std::ofstream(dir / "bad.flo") << "PIEH";
-  }
+  { std::ofstream(dir / "bad.flo") << "PIEH"; }
   ExpectErrorMentions([&] { ReadFlo(dir / "bad.flo"); }, "bad.flo");
   // A truncated .flo: valid header, too little data.
   {

@@ -15,9 +15,9 @@
 namespace u4d {
 
 struct InstanceInfo {
-  int id = 0;                  // >= 1, the value in the label image
+  int id = 0;                    // >= 1, the value in the label image
   std::string label = "person";  // class name
-  double score = 1.0;          // detector confidence in [0, 1]
+  double score = 1.0;            // detector confidence in [0, 1]
 };
 
 struct InstanceMask {

@@ -12,11 +12,11 @@ namespace u4d::layout {
 std::string FrameName(int frame);  // "000042"
 
 // Capture inputs (relative to the capture root).
-fs::path Image(const std::string& view, int frame);            // images/<view>/<frame>.png
-fs::path Mask(const std::string& view, int frame);             // masks/<view>/<frame>.png
-fs::path MaskInfo(const std::string& view, int frame);         // masks/<view>/<frame>.json
-fs::path Poses2d(const std::string& view, int frame);          // poses2d/<view>/<frame>.json
-fs::path Poses3d(int frame);                                   // poses3d/<frame>.json
+fs::path Image(const std::string& view, int frame);     // images/<view>/<frame>.png
+fs::path Mask(const std::string& view, int frame);      // masks/<view>/<frame>.png
+fs::path MaskInfo(const std::string& view, int frame);  // masks/<view>/<frame>.json
+fs::path Poses2d(const std::string& view, int frame);   // poses2d/<view>/<frame>.json
+fs::path Poses3d(int frame);                            // poses3d/<frame>.json
 
 // Ground truth (relative to the capture root).
 fs::path GtInstances(const std::string& view, int frame);      // gt/instances/<view>/<frame>.png

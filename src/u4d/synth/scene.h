@@ -23,16 +23,39 @@ namespace u4d::synth {
 
 // The paper's 17-joint set, in Human3.6M order (the internal skeleton).
 enum Joint : int {
-  kPelvis = 0, kRightHip, kRightKnee, kRightAnkle, kLeftHip, kLeftKnee, kLeftAnkle,
-  kSpine, kThorax, kNeck, kHead, kLeftShoulder, kLeftElbow, kLeftWrist,
-  kRightShoulder, kRightElbow, kRightWrist, kNumJoints
+  kPelvis = 0,
+  kRightHip,
+  kRightKnee,
+  kRightAnkle,
+  kLeftHip,
+  kLeftKnee,
+  kLeftAnkle,
+  kSpine,
+  kThorax,
+  kNeck,
+  kHead,
+  kLeftShoulder,
+  kLeftElbow,
+  kLeftWrist,
+  kRightShoulder,
+  kRightElbow,
+  kRightWrist,
+  kNumJoints
 };
 using Joints3d = std::array<Eigen::Vector3d, kNumJoints>;  // world, metres
 
 // Body parts for per-pixel part maps (used to drop thin limbs from the
 // degraded masks). Background and static geometry are kNone.
 enum class BodyPart : uint8_t {
-  kNone = 0, kHead, kTorso, kUpperArm, kForearm, kHand, kThigh, kShin, kFoot
+  kNone = 0,
+  kHead,
+  kTorso,
+  kUpperArm,
+  kForearm,
+  kHand,
+  kThigh,
+  kShin,
+  kFoot
 };
 
 // How a surface looks. Colours are linear BGR in [0, 1].
@@ -54,21 +77,21 @@ struct SurfaceMesh {
 };
 
 struct SceneObject {
-  int instance_id = 0;            // >= 1 for people (the GT instance id); 0 for static
-  std::string label = "person";   // class name; "background" for static geometry
+  int instance_id = 0;           // >= 1 for people (the GT instance id); 0 for static
+  std::string label = "person";  // class name; "background" for static geometry
   SurfaceMesh mesh;
   std::vector<Material> materials;
 };
 
 struct SceneFrame {
-  double time = 0;                       // seconds from the start
-  std::vector<SceneObject> people;       // instance ids 1..N, same order every frame
-  std::vector<Joints3d> joints;          // one per person, same order as `people`
+  double time = 0;                  // seconds from the start
+  std::vector<SceneObject> people;  // instance ids 1..N, same order every frame
+  std::vector<Joints3d> joints;     // one per person, same order as `people`
   // COCO-17 keypoints in 3D (nose, eyes, ears, shoulders, elbows, wrists,
   // hips, knees, ankles, in COCO order), one per person: what a 2D keypoint
   // detector would report, used to synthesise 2D detections.
   std::vector<std::array<Eigen::Vector3d, 17>> coco_keypoints;
-  std::vector<SceneObject> statics;      // floor, walls, props: do not move
+  std::vector<SceneObject> statics;  // floor, walls, props: do not move
 };
 
 }  // namespace u4d::synth

@@ -24,13 +24,13 @@ class Error : public std::runtime_error {
 }  // namespace u4d
 
 // U4D_CHECK(cond, "format {}", args...): throws u4d::Error when cond is false.
-#define U4D_CHECK(cond, ...)                             \
-  do {                                                   \
+#define U4D_CHECK(cond, ...)                                  \
+  do {                                                        \
     if (!(cond)) ::u4d::ThrowError(fmt::format(__VA_ARGS__)); \
   } while (0)
 
 // U4D_ASSERT(cond): an internal invariant; a failure is a bug in U4D.
-#define U4D_ASSERT(cond)                                             \
-  do {                                                               \
-    if (!(cond)) ::u4d::AssertFailed(#cond, __FILE__, __LINE__);     \
+#define U4D_ASSERT(cond)                                         \
+  do {                                                           \
+    if (!(cond)) ::u4d::AssertFailed(#cond, __FILE__, __LINE__); \
   } while (0)

@@ -40,9 +40,9 @@ nlohmann::json ReadJsonFile(const fs::path& path) {
 void WriteAtomically(const fs::path& path, const std::function<void(const fs::path&)>& write_to) {
   if (path.has_parent_path()) fs::create_directories(path.parent_path());
   // Keep the extension last so writers that pick the format from it work.
-  const fs::path tmp = path.parent_path() /
-                       (path.stem().string() + ".tmp-" + std::to_string(::getpid()) +
-                        path.extension().string());
+  const fs::path tmp =
+      path.parent_path() /
+      (path.stem().string() + ".tmp-" + std::to_string(::getpid()) + path.extension().string());
   try {
     write_to(tmp);
     U4D_CHECK(fs::exists(tmp), "writing {} produced no file", path.string());
