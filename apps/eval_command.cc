@@ -1,0 +1,61 @@
+// `u4d eval <capture> [--pred <dir>] [--initial] [-o <eval.json>]`: evaluates
+// a prediction (laid out like <capture>/gt) or the capture's initial masks
+// against the ground truth, prints a table and writes eval.json atomically.
+#include <memory>
+
+#include <fmt/format.h>
+#include <CLI/CLI.hpp>
+
+#include "apps/commands.h"
+#include "u4d/eval/evaluate.h"
+#include "u4d/util/check.h"
+
+namespace u4d::apps {
+
+namespace {
+struct EvalArgs {
+  std::string capture;
+  std::string pred;
+  bool initial = false;
+  std::string output;
+  int keyframe_interval = 10;
+};
+}  // namespace
+
+Command MakeEvalCommand() {
+  auto args = std::make_shared<EvalArgs>();
+  return {"eval", "evaluate a prediction or the initial masks against a capture's ground truth",
+          [=](CLI::App& app) {
+            app.add_option("capture", args->capture, "capture directory (with gt/)")->required();
+            app.add_option("--pred", args->pred,
+                           "prediction directory laid out like gt/ (instances/, depth/, flow/, "
+                           "joints3d/, meshes/)");
+            app.add_flag("--initial", args->initial,
+                         "evaluate the capture's initial masks (masks/) as instance predictions");
+            app.add_option("-o,--output", args->output,
+                           "eval.json to write (default: <pred>/eval.json, or "
+                           "<capture>/eval_initial.json with --initial)");
+            app.add_option("--keyframe-interval", args->keyframe_interval,
+                           "key-frame spacing for the silhouette overlap error S_e")
+                ->capture_default_str();
+          },
+          [=] {
+            U4D_CHECK(args->initial != !args->pred.empty(),
+                      "give exactly one of --pred <dir> and --initial");
+            eval::EvalInput input;
+            input.capture = args->capture;
+            input.pred = args->pred;
+            input.initial_masks = args->initial;
+            eval::EvalOptions options;
+            options.keyframe_interval = args->keyframe_interval;
+            const eval::EvalReport report = eval::EvaluateCapture(input, options);
+            const fs::path out = !args->output.empty() ? fs::path(args->output)
+                                 : args->initial       ? input.capture / "eval_initial.json"
+                                                       : input.pred / "eval.json";
+            WriteJsonFileAtomic(out, report.ToJson());
+            fmt::print("{}wrote {}\n", report.FormatTable(), out.string());
+            return 0;
+          }};
+}
+
+}  // namespace u4d::apps

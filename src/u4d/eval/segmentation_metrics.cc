@@ -1,0 +1,213 @@
+#include "u4d/eval/segmentation_metrics.h"
+
+#include <cmath>
+#include <limits>
+
+#include "u4d/eval/hungarian.h"
+#include "u4d/util/check.h"
+
+namespace u4d::eval {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+void CheckLabelImage(const cv::Mat& ids, const char* which, const std::string& context) {
+  U4D_CHECK(!ids.empty(), "{}: the {} label image is empty", context, which);
+  U4D_CHECK(ids.type() == CV_16UC1, "{}: the {} label image must be CV_16UC1", context, which);
+}
+
+std::string LabelOf(const InstanceMask& mask, int id, const char* which,
+                    const std::string& context) {
+  const InstanceInfo* info = mask.Find(id);
+  U4D_CHECK(info != nullptr, "{}: id {} in the {} label image has no class (no instance entry)",
+            context, id, which);
+  return info->label;
+}
+
+}  // namespace
+
+void InstanceSegOptions::Check() const {
+  U4D_CHECK(match_iou > 0 && match_iou <= 1, "InstanceSegOptions: match_iou must be in (0, 1]");
+  U4D_CHECK(coverage > 0 && coverage < 1, "InstanceSegOptions: coverage must be in (0, 1)");
+}
+
+double Overlap::IoU() const {
+  return union_ > 0 ? static_cast<double>(intersection) / static_cast<double>(union_) : kNaN;
+}
+
+double MaskIoU(const cv::Mat& a, const cv::Mat& b, const std::string& context) {
+  U4D_CHECK(a.type() == CV_8UC1 && b.type() == CV_8UC1, "{}: masks must be CV_8UC1", context);
+  U4D_CHECK(a.size() == b.size(), "{}: mask sizes differ ({}x{} vs {}x{})", context, a.cols, a.rows,
+            b.cols, b.rows);
+  const int64_t inter = cv::countNonZero(a & b);
+  const int64_t uni = cv::countNonZero(a | b);
+  return uni > 0 ? static_cast<double>(inter) / static_cast<double>(uni) : kNaN;
+}
+
+InstanceSegResult EvaluateInstances(const InstanceMask& pred, const InstanceMask& gt,
+                                    const InstanceSegOptions& options, const std::string& context) {
+  options.Check();
+  CheckLabelImage(pred.ids, "predicted", context);
+  CheckLabelImage(gt.ids, "ground-truth", context);
+  U4D_CHECK(pred.ids.size() == gt.ids.size(),
+            "{}: image sizes differ: prediction {}x{}, ground truth {}x{}", context, pred.ids.cols,
+            pred.ids.rows, gt.ids.cols, gt.ids.rows);
+
+  // Joint histogram of (gt id, pred id) over the pixels, ids densely indexed
+  // in order of first appearance; index 0 is the background.
+  InstanceSegResult r;
+  std::vector<int> gt_lut(65536, 0), pred_lut(65536, 0);
+  for (int y = 0; y < gt.ids.rows; ++y) {
+    const uint16_t* g = gt.ids.ptr<uint16_t>(y);
+    const uint16_t* p = pred.ids.ptr<uint16_t>(y);
+    for (int x = 0; x < gt.ids.cols; ++x) {
+      if (g[x] && !gt_lut[g[x]]) {
+        r.gt_ids.push_back(g[x]);
+        gt_lut[g[x]] = static_cast<int>(r.gt_ids.size());
+      }
+      if (p[x] && !pred_lut[p[x]]) {
+        r.pred_ids.push_back(p[x]);
+        pred_lut[p[x]] = static_cast<int>(r.pred_ids.size());
+      }
+    }
+  }
+  std::vector<std::vector<int64_t>> grid(r.gt_ids.size() + 1,
+                                         std::vector<int64_t>(r.pred_ids.size() + 1, 0));
+  for (int y = 0; y < gt.ids.rows; ++y) {
+    const uint16_t* g = gt.ids.ptr<uint16_t>(y);
+    const uint16_t* p = pred.ids.ptr<uint16_t>(y);
+    for (int x = 0; x < gt.ids.cols; ++x) ++grid[gt_lut[g[x]]][pred_lut[p[x]]];
+  }
+  const int ng = static_cast<int>(r.gt_ids.size());
+  const int np = static_cast<int>(r.pred_ids.size());
+  r.num_gt = ng;
+  r.num_pred = np;
+
+  std::vector<std::string> gt_label(ng), pred_label(np);
+  for (int i = 0; i < ng; ++i) gt_label[i] = LabelOf(gt, r.gt_ids[i], "ground-truth", context);
+  for (int j = 0; j < np; ++j) pred_label[j] = LabelOf(pred, r.pred_ids[j], "predicted", context);
+
+  std::vector<int64_t> gt_area(ng, 0), pred_area(np, 0);
+  for (int i = 0; i <= ng; ++i)
+    for (int j = 0; j <= np; ++j) {
+      if (i > 0) gt_area[i - 1] += grid[i][j];
+      if (j > 0) pred_area[j - 1] += grid[i][j];
+    }
+
+  r.iou = Eigen::MatrixXd::Zero(ng, np);
+  Eigen::MatrixXd score = Eigen::MatrixXd::Zero(ng, np);
+  for (int i = 0; i < ng; ++i)
+    for (int j = 0; j < np; ++j) {
+      const int64_t inter = grid[i + 1][j + 1];
+      r.iou(i, j) =
+          static_cast<double>(inter) / static_cast<double>(gt_area[i] + pred_area[j] - inter);
+      const bool allowed = !options.match_within_class || gt_label[i] == pred_label[j];
+      score(i, j) = allowed ? r.iou(i, j) : 0.0;
+    }
+  const std::vector<int> gt_to_pred = MaxScoreAssignment(score);
+
+  std::vector<char> pred_detected(np, 0);
+  double sum_iou = 0;
+  for (int i = 0; i < ng; ++i) {
+    InstanceMatch m;
+    m.gt_id = r.gt_ids[i];
+    m.label = gt_label[i];
+    m.gt_area = gt_area[i];
+    const int j = gt_to_pred[i];
+    if (j >= 0 && score(i, j) > 0) {
+      m.pred_id = r.pred_ids[j];
+      m.iou = score(i, j);
+      if (m.iou >= options.match_iou)
+        pred_detected[j] = 1;
+      else
+        ++r.missed;
+    } else {
+      ++r.missed;
+    }
+    sum_iou += m.iou;
+    r.matches.push_back(m);
+  }
+  for (int j = 0; j < np; ++j)
+    if (!pred_detected[j]) ++r.false_positives;
+  r.mean_instance_iou = ng > 0 ? sum_iou / ng : kNaN;
+
+  for (int j = 0; j < np; ++j) {
+    int covered = 0;
+    for (int i = 0; i < ng; ++i)
+      if (static_cast<double>(grid[i + 1][j + 1]) > options.coverage * gt_area[i]) ++covered;
+    if (covered >= 2) ++r.merged;
+  }
+  for (int i = 0; i < ng; ++i) {
+    int covering = 0;
+    for (int j = 0; j < np; ++j)
+      if (static_cast<double>(grid[i + 1][j + 1]) > options.coverage * pred_area[j]) ++covering;
+    if (covering >= 2) ++r.split;
+  }
+
+  // Class and foreground overlap: |union of class c in GT n union in pred|.
+  for (int i = 0; i <= ng; ++i)
+    for (int j = 0; j <= np; ++j) {
+      const int64_t n = grid[i][j];
+      if (n == 0) continue;
+      const std::string* gl = i > 0 ? &gt_label[i - 1] : nullptr;
+      const std::string* pl = j > 0 ? &pred_label[j - 1] : nullptr;
+      if (gl && pl && *gl == *pl) {
+        r.per_class[*gl].intersection += n;
+        r.per_class[*gl].union_ += n;
+      } else {
+        if (gl) r.per_class[*gl].union_ += n;
+        if (pl) r.per_class[*pl].union_ += n;
+      }
+      if (gl || pl) r.foreground.union_ += n;
+      if (gl && pl) r.foreground.intersection += n;
+    }
+  return r;
+}
+
+void InstanceSegAccumulator::Add(const InstanceSegResult& r) {
+  ++num_images;
+  num_gt += r.num_gt;
+  num_pred += r.num_pred;
+  missed += r.missed;
+  false_positives += r.false_positives;
+  merged += r.merged;
+  split += r.split;
+  for (const InstanceMatch& m : r.matches) sum_instance_iou += m.iou;
+  for (const auto& [label, o] : r.per_class) per_class[label].Add(o);
+  foreground.Add(r.foreground);
+}
+
+double InstanceSegAccumulator::MeanInstanceIoU() const {
+  return num_gt > 0 ? sum_instance_iou / num_gt : kNaN;
+}
+
+double InstanceSegAccumulator::MeanClassIoU() const {
+  double sum = 0;
+  int n = 0;
+  for (const auto& [label, o] : per_class)
+    if (o.union_ > 0) {
+      sum += o.IoU();
+      ++n;
+    }
+  return n > 0 ? sum / n : kNaN;
+}
+
+nlohmann::json InstanceSegAccumulator::ToJson() const {
+  auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+  nlohmann::json classes = nlohmann::json::object();
+  for (const auto& [label, o] : per_class)
+    classes[label] = {{"iou", num(o.IoU())}, {"intersection", o.intersection}, {"union", o.union_}};
+  return {{"images", num_images},
+          {"gt_instances", num_gt},
+          {"pred_instances", num_pred},
+          {"mean_instance_iou", num(MeanInstanceIoU())},
+          {"mean_class_iou", num(MeanClassIoU())},
+          {"foreground_iou", num(foreground.IoU())},
+          {"per_class", classes},
+          {"missed", missed},
+          {"false_positives", false_positives},
+          {"merged", merged},
+          {"split", split}};
+}
+
+}  // namespace u4d::eval

@@ -1,0 +1,103 @@
+// Instance-segmentation metrics (paper Section 4, "IoU" tables).
+//
+// Inputs are label images (CV_16UC1, 0 = background) with the class of every
+// id (io/instance_mask.h). Per image:
+//  - the IoU matrix between visible GT instances (rows) and visible predicted
+//    instances (columns); an instance listed but with no pixel is ignored;
+//  - an optimal one-to-one matching maximising the total IoU (Hungarian),
+//    restricted to pairs of the same class and with IoU > 0;
+//  - per-GT-instance IoU (an unmatched GT instance scores 0);
+//  - per-class pixel overlap: intersection and union of the union of all
+//    instances of a class (instance identity ignored), and of the foreground;
+//  - counts: missed GT (no match with IoU >= match_iou), false positives
+//    (predicted with no match with IoU >= match_iou), merges (a predicted
+//    instance covering > coverage of each of >= 2 GT instances, coverage =
+//    |P n G| / |G|) and splits (a GT instance covering > coverage of each of
+//    >= 2 predicted instances, coverage = |P n G| / |P|).
+// Averages over many images (InstanceSegAccumulator) are instance-weighted for
+// the mean instance IoU and pixel-pooled (sum of intersections over sum of
+// unions) for the class IoU; docs/metrics.md gives the formulas.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+
+#include "u4d/io/instance_mask.h"
+
+namespace u4d::eval {
+
+struct InstanceSegOptions {
+  // A matched pair with IoU below this does not count as a detection when
+  // counting missed and false-positive instances (its IoU still counts).
+  double match_iou = 0.5;
+  // Share of an instance that another must cover to count a merge or a split.
+  double coverage = 0.5;
+  // Match only instances of the same class.
+  bool match_within_class = true;
+  void Check() const;
+};
+
+// Pixel counts of an overlap, summable over images.
+struct Overlap {
+  int64_t intersection = 0;
+  int64_t union_ = 0;
+  double IoU() const;  // NaN when the union is empty
+  void Add(const Overlap& o) {
+    intersection += o.intersection;
+    union_ += o.union_;
+  }
+};
+
+struct InstanceMatch {
+  int gt_id = 0;
+  int pred_id = 0;  // 0 when unmatched
+  std::string label;
+  int64_t gt_area = 0;
+  double iou = 0;  // 0 when unmatched
+};
+
+struct InstanceSegResult {
+  std::vector<int> gt_ids;             // visible GT instances, rows of `iou`
+  std::vector<int> pred_ids;           // visible predicted instances, columns of `iou`
+  Eigen::MatrixXd iou;                 // gt x pred
+  std::vector<InstanceMatch> matches;  // one per visible GT instance, in gt_ids order
+  double mean_instance_iou = 0;        // NaN when no GT instance is visible
+  int num_gt = 0, num_pred = 0;
+  int missed = 0, false_positives = 0, merged = 0, split = 0;
+  std::map<std::string, Overlap> per_class;  // classes present in GT or prediction
+  Overlap foreground;                        // any instance vs any instance
+};
+
+// IoU of two binary masks (CV_8UC1, non-zero = set); NaN when both are empty.
+// Throws naming `context` when the sizes or types differ.
+double MaskIoU(const cv::Mat& a, const cv::Mat& b, const std::string& context = "MaskIoU");
+
+// Evaluates one image. Throws u4d::Error naming `context` (usually the files)
+// when the images differ in size or type, or an id in an image has no class.
+InstanceSegResult EvaluateInstances(const InstanceMask& pred, const InstanceMask& gt,
+                                    const InstanceSegOptions& options, const std::string& context);
+
+// Sums over images. Mean instance IoU = sum of per-GT-instance IoU / number of
+// GT instances (instance-weighted); class IoU = sum_i |P_c n G_c| / sum_i |P_c u G_c|.
+struct InstanceSegAccumulator {
+  int num_images = 0;
+  int num_gt = 0, num_pred = 0;
+  int missed = 0, false_positives = 0, merged = 0, split = 0;
+  double sum_instance_iou = 0;
+  std::map<std::string, Overlap> per_class;
+  Overlap foreground;
+
+  void Add(const InstanceSegResult& r);
+  double MeanInstanceIoU() const;  // NaN when no GT instance was seen
+  // Mean over classes of the class IoU (classes with a non-empty union).
+  double MeanClassIoU() const;
+  nlohmann::json ToJson() const;
+};
+
+}  // namespace u4d::eval

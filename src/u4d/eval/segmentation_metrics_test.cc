@@ -1,0 +1,112 @@
+#include "u4d/eval/segmentation_metrics.h"
+
+#include <gtest/gtest.h>
+
+#include "u4d/util/check.h"
+
+namespace u4d::eval {
+namespace {
+
+// A label image with rectangles [x0, x1) x [y0, y1) set to ids.
+struct Rect {
+  int id, x0, y0, x1, y1;
+};
+InstanceMask Labels(int w, int h, const std::vector<Rect>& rects,
+                    const std::vector<InstanceInfo>& infos) {
+  InstanceMask m{cv::Mat::zeros(h, w, CV_16UC1), infos};
+  for (const Rect& r : rects) m.ids(cv::Rect(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0)).setTo(r.id);
+  return m;
+}
+
+TEST(Segmentation, IoUOfTwoRectangles) {
+  // 10x10 vs the same shifted by 5 in x: intersection 50, union 150.
+  const InstanceMask gt = Labels(20, 10, {{1, 0, 0, 10, 10}}, {{1, "person", 1}});
+  const InstanceMask pred = Labels(20, 10, {{7, 5, 0, 15, 10}}, {{7, "person", 1}});
+  const InstanceSegResult r = EvaluateInstances(pred, gt, {}, "test");
+  ASSERT_EQ(r.iou.rows(), 1);
+  ASSERT_EQ(r.iou.cols(), 1);
+  EXPECT_NEAR(r.iou(0, 0), 1.0 / 3.0, 1e-12);
+  EXPECT_NEAR(r.mean_instance_iou, 1.0 / 3.0, 1e-12);
+  EXPECT_EQ(r.matches[0].pred_id, 7);
+  EXPECT_EQ(r.missed, 1);  // IoU below 0.5
+  EXPECT_EQ(r.false_positives, 1);
+  EXPECT_NEAR(MaskIoU(gt.ids > 0, pred.ids > 0), 1.0 / 3.0, 1e-12);
+}
+
+TEST(Segmentation, MatchingIsOptimalWhereGreedyFails) {
+  // One row: GT A = [0,10), B = [10,11); pred Q = [0,4), P = [5,11).
+  // IoU(A,Q) = 4/10, IoU(A,P) = 5/11, IoU(B,P) = 1/6, IoU(B,Q) = 0.
+  // Greedy takes A-P (0.4545) and leaves B unmatched; the optimum is
+  // A-Q + B-P = 0.4 + 0.1667.
+  const InstanceMask gt =
+      Labels(12, 1, {{1, 0, 0, 10, 1}, {2, 10, 0, 11, 1}}, {{1, "person", 1}, {2, "person", 1}});
+  const InstanceMask pred =
+      Labels(12, 1, {{3, 0, 0, 4, 1}, {4, 5, 0, 11, 1}}, {{3, "person", 1}, {4, "person", 1}});
+  const InstanceSegResult r = EvaluateInstances(pred, gt, {}, "test");
+  ASSERT_EQ(r.matches.size(), 2u);
+  EXPECT_EQ(r.matches[0].gt_id, 1);
+  EXPECT_EQ(r.matches[0].pred_id, 3);
+  EXPECT_NEAR(r.matches[0].iou, 0.4, 1e-12);
+  EXPECT_EQ(r.matches[1].pred_id, 4);
+  EXPECT_NEAR(r.matches[1].iou, 1.0 / 6.0, 1e-12);
+  EXPECT_NEAR(r.mean_instance_iou, (0.4 + 1.0 / 6.0) / 2, 1e-12);
+}
+
+TEST(Segmentation, MergeCounting) {
+  // P = [2,18) covers 8/10 of A = [0,10) and of B = [10,20): a merge.
+  const InstanceMask gt =
+      Labels(20, 5, {{1, 0, 0, 10, 5}, {2, 10, 0, 20, 5}}, {{1, "person", 1}, {2, "person", 1}});
+  const InstanceMask pred = Labels(20, 5, {{5, 2, 0, 18, 5}}, {{5, "person", 1}});
+  InstanceSegResult r = EvaluateInstances(pred, gt, {}, "test");
+  EXPECT_EQ(r.merged, 1);
+  EXPECT_EQ(r.split, 0);
+  EXPECT_EQ(r.missed, 2);  // the match has IoU 8/18 < 0.5; the other GT is unmatched
+  EXPECT_EQ(r.false_positives, 1);
+  EXPECT_NEAR(r.mean_instance_iou, (8.0 / 18.0) / 2, 1e-12);
+  // P = [6,14) covers 4/10 of each: no merge.
+  r = EvaluateInstances(Labels(20, 5, {{5, 6, 0, 14, 5}}, {{5, "person", 1}}), gt, {}, "test");
+  EXPECT_EQ(r.merged, 0);
+  // The converse: two predictions inside one GT instance is a split.
+  r = EvaluateInstances(gt, Labels(20, 5, {{9, 0, 0, 20, 5}}, {{9, "person", 1}}), {}, "test");
+  EXPECT_EQ(r.split, 1);
+}
+
+TEST(Segmentation, PerClassIoUAndClassConstraint) {
+  // GT: person [0,10), car [10,20); pred: person [0,15), car [15,20).
+  // person: inter 10, union 15; car: inter 5, union 10; foreground 20 / 20.
+  const InstanceMask gt =
+      Labels(20, 2, {{1, 0, 0, 10, 2}, {2, 10, 0, 20, 2}}, {{1, "person", 1}, {2, "car", 1}});
+  const InstanceMask pred =
+      Labels(20, 2, {{3, 0, 0, 15, 2}, {4, 15, 0, 20, 2}}, {{3, "person", 1}, {4, "car", 1}});
+  const InstanceSegResult r = EvaluateInstances(pred, gt, {}, "test");
+  EXPECT_NEAR(r.per_class.at("person").IoU(), 10.0 / 15.0, 1e-12);
+  EXPECT_NEAR(r.per_class.at("car").IoU(), 0.5, 1e-12);
+  EXPECT_NEAR(r.foreground.IoU(), 1.0, 1e-12);
+  InstanceSegAccumulator acc;
+  acc.Add(r);
+  acc.Add(r);
+  EXPECT_NEAR(acc.per_class.at("car").IoU(), 0.5, 1e-12);
+  EXPECT_NEAR(acc.MeanClassIoU(), (10.0 / 15.0 + 0.5) / 2, 1e-12);
+  EXPECT_EQ(acc.num_gt, 4);
+  // With the class constraint the car prediction is never matched to the person.
+  const InstanceMask car_only = Labels(20, 2, {{4, 0, 0, 10, 2}}, {{4, "car", 1}});
+  const InstanceSegResult c = EvaluateInstances(car_only, gt, {}, "test");
+  EXPECT_EQ(c.matches[0].pred_id, 0);
+  EXPECT_EQ(c.matches[0].iou, 0.0);
+}
+
+TEST(Segmentation, BadInputsThrowNamingTheContext) {
+  const InstanceMask a = Labels(20, 2, {{1, 0, 0, 10, 2}}, {{1, "person", 1}});
+  const InstanceMask b = Labels(21, 2, {{1, 0, 0, 10, 2}}, {{1, "person", 1}});
+  try {
+    EvaluateInstances(a, b, {}, "pred.png vs gt.png");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("pred.png vs gt.png"), std::string::npos);
+  }
+  const InstanceMask no_class = Labels(20, 2, {{1, 0, 0, 10, 2}}, {});
+  EXPECT_THROW(EvaluateInstances(no_class, a, {}, "x"), Error);
+}
+
+}  // namespace
+}  // namespace u4d::eval
