@@ -1,0 +1,75 @@
+// Writes a synthetic capture with complete ground truth (docs/synthetic.md,
+// layout in docs/formats.md): people from people.h, static scene from
+// environment.h, a camera rig from rig.h, rendered by render.h, with the
+// degraded detector inputs of degrade.h as the capture's initial masks and
+// 2D keypoints.
+//
+// Streaming: only frames t and t+1 are in memory at any time, so the length
+// of the sequence does not change the memory used. Deterministic in `seed`.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "u4d/synth/degrade.h"
+#include "u4d/synth/environment.h"
+#include "u4d/synth/render.h"
+#include "u4d/synth/rig.h"
+#include "u4d/util/file.h"
+
+namespace u4d::synth {
+
+struct SynthOptions {
+  std::string preset = "handshake";  // handshake | meetup | moving-cameras
+  std::string name;                  // capture name; empty = the preset's name
+  int num_frames = 50;               // frames to write
+  // The people's script lasts at least script_seconds (the handshake needs
+  // >= 4 s, the meetup >= 5 s); the capture is the window of num_frames
+  // starting at script frame start_frame. start_frame < 0 centres the window
+  // on the first handshake (or starts at 0 when there is none).
+  double script_seconds = 6.0;
+  int start_frame = -1;
+  double fps = 25.0;               // frames per second
+  int num_people = 3;              // meetup only: people in the scene (>= 3)
+  uint64_t seed = 1;               // seeds people, textures, noise and degradation
+  fs::path mocap_bvh;              // meetup: CMU clip driving one person (required there)
+  bool write_meshes = true;        // write gt/meshes/<id>/<frame>.ply
+  int png_compression = 1;         // 0-9; low is fast, high is small
+  RigOptions rig;                  // cameras (num_views, resolution, moving)
+  EnvironmentOptions environment;  // floor and background
+  RenderOptions render;            // lighting and sensor noise
+  FlowOptions flow;                // visibility tolerance of the GT flow
+  MaskDegradeOptions masks = MaskDegradeOptions::Default();              // initial masks
+  KeypointDegradeOptions keypoints = KeypointDegradeOptions::Default();  // 2D keypoints
+
+  void Check() const;  // throws u4d::Error on bad values or an unknown preset
+};
+
+// The defaults of a named preset:
+//   handshake       2 people approach, shake hands, step apart; 8 static views, indoor
+//   meetup          3+ people meet (one driven by real CMU mocap); 8 static views, outdoor
+//   moving-cameras  the handshake seen by 8 cameras that orbit and bob
+// Throws u4d::Error for an unknown name, listing the known ones.
+SynthOptions SynthPreset(const std::string& preset);
+const std::vector<std::string>& SynthPresetNames();
+
+struct SynthSummary {
+  int num_frames = 0;
+  int num_views = 0;
+  int num_people = 0;
+  double seconds = 0;         // wall time of the whole generation
+  double render_seconds = 0;  // of which rendering and GT flow
+  int dropped_masks = 0;      // view-frames with no initial mask
+  int merged_instances = 0;   // touching people merged into one instance
+  int false_positives = 0;    // spurious detections added
+  int dropped_limbs = 0;      // thin limbs cut from masks
+  int swapped_poses = 0;      // 2D poses with left/right swapped
+};
+
+// Writes the capture into `dir` (created; existing files are overwritten).
+// Shows a progress bar when `progress` is set and stderr is a terminal.
+SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& dir,
+                                   bool progress = false);
+
+}  // namespace u4d::synth
