@@ -168,7 +168,7 @@ Capture MakeCaptureManifest(const SynthOptions& o,
   c.scene = o.environment.indoor ? SceneType::kIndoor : SceneType::kOutdoor;
   c.fps = o.fps;
   c.num_frames = o.num_frames;
-  const bool moving = o.rig.angular_speed_deg_per_s != 0 || o.rig.bob_amplitude != 0;
+  const bool moving = o.rig.IsMoving();
   for (int v = 0; v < o.rig.num_views; ++v) {
     CaptureView view;
     view.name = fmt::format("cam{:02d}", v);
@@ -221,9 +221,15 @@ SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& 
   std::mutex mutex;
   Progress bar("synth", options.num_frames, progress);
 
-  SceneFrame frame = pose_frame(0);
+  // A static rig sees the same background every frame: render it once.
+  const bool moving = options.rig.IsMoving();
   Timer render_timer;
-  std::vector<RenderedView> views = RenderViews(cameras[0], frame, options.render);
+  std::vector<StaticLayer> layers;
+  if (!moving) layers = RenderStaticLayers(cameras[0], statics, options.render);
+  const std::vector<StaticLayer>* layers_ptr = moving ? nullptr : &layers;
+
+  SceneFrame frame = pose_frame(0);
+  std::vector<RenderedView> views = RenderViews(cameras[0], frame, options.render, layers_ptr);
   summary.render_seconds += render_timer.Seconds();
 
   for (int f = 0; f < options.num_frames; ++f) {
@@ -233,7 +239,7 @@ SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& 
     if (f + 1 < options.num_frames) {
       next = pose_frame(f + 1);
       render_timer.Restart();
-      next_views = RenderViews(cameras[f + 1], next, options.render);
+      next_views = RenderViews(cameras[f + 1], next, options.render, layers_ptr);
       summary.render_seconds += render_timer.Seconds();
     }
 

@@ -218,37 +218,107 @@ float ViewGain(const RenderOptions& o, int view, double time) {
   return o.gain * (1 + o.gain_jitter * u);
 }
 
-RenderedView RenderPrepared(const Camera& camera, const SceneFrame& frame,
-                            const PreparedFrame& prep, const RenderOptions& o, int view_index) {
-  const int w = camera.width, h = camera.height;
-  RenderedView out;
-  out.depth = cv::Mat(h, w, CV_32FC1, cv::Scalar(std::numeric_limits<float>::infinity()));
-  out.object = cv::Mat(h, w, CV_16UC1, cv::Scalar(0));
-  out.face = cv::Mat(h, w, CV_32SC1, cv::Scalar(-1));
-  out.barycentric = cv::Mat(h, w, CV_32FC2, cv::Scalar(0, 0));
+// Linear shaded colour (albedo times light, before gain, gamma and noise) of
+// the surface point (face, b1, b2) of object `oi`, seen at depth `depth`.
+Eigen::Vector3f ShadeLinear(const PreparedFrame& prep, int oi, int face, float b1, float b2,
+                            float depth, const Eigen::Vector3f& center,
+                            const Eigen::Vector3f& light, double fx, const RenderOptions& o) {
+  const SceneObject& obj = *prep.objects[oi];
+  const SurfaceMesh& mesh = obj.mesh;
+  const Eigen::Vector3i& f = mesh.faces[face];
+  const float b0 = 1 - b1 - b2;
+  const Eigen::Vector3f point =
+      b0 * mesh.vertices[f[0]] + b1 * mesh.vertices[f[1]] + b2 * mesh.vertices[f[2]];
+  const Eigen::Vector3f tc =
+      b0 * mesh.texcoords[f[0]] + b1 * mesh.texcoords[f[1]] + b2 * mesh.texcoords[f[2]];
+  const std::vector<Eigen::Vector3f>& vn = prep.normals[oi];
+  Eigen::Vector3f normal = b0 * vn[f[0]] + b1 * vn[f[1]] + b2 * vn[f[2]];
+  if (normal.squaredNorm() < 1e-12f)
+    normal = (mesh.vertices[f[1]] - mesh.vertices[f[0]])
+                 .cross(mesh.vertices[f[2]] - mesh.vertices[f[0]]);
+  normal.normalize();
+  Eigen::Vector3f to_eye = center - point;
+  to_eye.normalize();
+  float facing = normal.dot(to_eye);
+  if (facing < 0) {
+    normal = -normal;
+    facing = -facing;
+  }
+  const float footprint =
+      o.texture_filtering ? static_cast<float>(depth / fx) / std::max(facing, 0.25f) : 0;
+  const size_t mi = mesh.face_material.empty() ? 0 : mesh.face_material[face];
+  const Eigen::Vector3f albedo = EvaluateMaterial(obj.materials[mi], tc, footprint);
+  const float lambert = std::max(0.0f, normal.dot(light));
+  return albedo * (o.ambient + o.light_intensity * lambert);
+}
+
+// Rasterises objects [first, last) of `prep` into `out`'s id buffers.
+void RasterRange(const Camera& camera, const PreparedFrame& prep, int first, int last,
+                 const RenderOptions& o, RenderedView* out,
+                 std::vector<std::vector<Eigen::Vector3d>>* cam_vertices) {
   Buffers buf;
-  buf.width = w;
-  buf.height = h;
-  buf.depth = out.depth.ptr<float>();
-  buf.object = out.object.ptr<uint16_t>();
-  buf.face = out.face.ptr<int32_t>();
-  buf.bary = out.barycentric.ptr<float>();
+  buf.width = camera.width;
+  buf.height = camera.height;
+  buf.depth = out->depth.ptr<float>();
+  buf.object = out->object.ptr<uint16_t>();
+  buf.face = out->face.ptr<int32_t>();
+  buf.bary = out->barycentric.ptr<float>();
   const Intrinsics in{camera.K(0, 0), camera.K(0, 1), camera.K(0, 2), camera.K(1, 1),
                       camera.K(1, 2)};
+  cam_vertices->resize(prep.objects.size());
+  for (int i = first; i < last; ++i) {
+    (*cam_vertices)[i] = ToCamera(camera, prep.objects[i]->mesh);
+    RasterObject<false>((*cam_vertices)[i], prep.objects[i]->mesh, in, o.near_plane,
+                        o.cull_back_faces, static_cast<uint16_t>(i + 1), buf);
+  }
+}
 
-  std::vector<std::vector<Eigen::Vector3d>> cam_vertices(prep.objects.size());
-  for (size_t i = 0; i < prep.objects.size(); ++i) {
-    cam_vertices[i] = ToCamera(camera, prep.objects[i]->mesh);
-    RasterObject<false>(cam_vertices[i], prep.objects[i]->mesh, in, o.near_plane, o.cull_back_faces,
-                        static_cast<uint16_t>(i + 1), buf);
+void InitIdBuffers(int w, int h, RenderedView* out) {
+  out->depth = cv::Mat(h, w, CV_32FC1, cv::Scalar(std::numeric_limits<float>::infinity()));
+  out->object = cv::Mat(h, w, CV_16UC1, cv::Scalar(0));
+  out->face = cv::Mat(h, w, CV_32SC1, cv::Scalar(-1));
+  out->barycentric = cv::Mat(h, w, CV_32FC2, cv::Scalar(0, 0));
+}
+
+bool SameCamera(const Camera& a, const Camera& b) {
+  return a.width == b.width && a.height == b.height && a.K == b.K && a.dist == b.dist &&
+         a.cam_from_world.rotation == b.cam_from_world.rotation &&
+         a.cam_from_world.translation == b.cam_from_world.translation;
+}
+
+RenderedView RenderPrepared(const Camera& camera, const SceneFrame& frame,
+                            const PreparedFrame& prep, const RenderOptions& o, int view_index,
+                            const StaticLayer* layer) {
+  const int w = camera.width, h = camera.height;
+  RenderedView out;
+  std::vector<std::vector<Eigen::Vector3d>> cam_vertices;
+  if (layer != nullptr) {
+    U4D_CHECK(SameCamera(layer->camera, camera),
+              "RenderView: the static layer was rendered for another camera");
+    U4D_CHECK(layer->num_statics == frame.statics.size(),
+              "RenderView: the static layer has {} static objects, the frame {}",
+              layer->num_statics, frame.statics.size());
+    out.depth = layer->depth.clone();
+    out.face = layer->face.clone();
+    out.barycentric = layer->barycentric.clone();
+    // Layer values are 1 + static index; in this frame statics follow the people.
+    out.object = cv::Mat(h, w, CV_16UC1);
+    layer->object.forEach<uint16_t>([&](const uint16_t& v, const int* pos) {
+      out.object.at<uint16_t>(pos[0], pos[1]) =
+          v == 0 ? 0 : static_cast<uint16_t>(v + prep.num_people);
+    });
+    RasterRange(camera, prep, 0, prep.num_people, o, &out, &cam_vertices);
+  } else {
+    InitIdBuffers(w, h, &out);
+    RasterRange(camera, prep, 0, static_cast<int>(prep.objects.size()), o, &out, &cam_vertices);
   }
 
   // Deferred shading and the id maps.
   out.instance = cv::Mat(h, w, CV_16UC1, cv::Scalar(0));
   out.part = cv::Mat(h, w, CV_8UC1, cv::Scalar(0));
   cv::Mat color_f(h, w, CV_32FC3, cv::Scalar(0, 0, 0));
-  const Eigen::Vector3d light = -o.light_direction.normalized();
-  const Eigen::Vector3d center = camera.Center();
+  const Eigen::Vector3f light = (-o.light_direction.normalized()).cast<float>();
+  const Eigen::Vector3f center = camera.Center().cast<float>();
   const float gain = ViewGain(o, view_index, frame.time);
   // Gamma encoding by table: linear [0, 1] in kGammaSteps steps, interpolated.
   constexpr int kGammaSteps = 1024;
@@ -266,46 +336,32 @@ RenderedView RenderPrepared(const Camera& camera, const SceneFrame& frame,
       uint16_t* instance = out.instance.ptr<uint16_t>(y);
       uint8_t* part = out.part.ptr<uint8_t>(y);
       cv::Vec3f* color = color_f.ptr<cv::Vec3f>(y);
+      const cv::Vec3f* cached = layer != nullptr ? layer->shade.ptr<cv::Vec3f>(y) : nullptr;
       for (int x = 0; x < w; ++x) {
         if (object[x] == 0) {
           depth[x] = 0;
           continue;
         }
         const int oi = object[x] - 1;
-        const SceneObject& obj = *prep.objects[oi];
-        const SurfaceMesh& mesh = obj.mesh;
-        const Eigen::Vector3i& f = mesh.faces[face[x]];
-        const float b1 = bary[2 * x], b2 = bary[2 * x + 1], b0 = 1 - b1 - b2;
-        if (oi < prep.num_people) instance[x] = static_cast<uint16_t>(obj.instance_id);
-        if (!mesh.vertex_part.empty()) {
-          const int k = (b0 >= b1 && b0 >= b2) ? 0 : (b1 >= b2 ? 1 : 2);
-          part[x] = static_cast<uint8_t>(mesh.vertex_part[f[k]]);
+        const float b1 = bary[2 * x], b2 = bary[2 * x + 1];
+        Eigen::Vector3f lin;
+        if (oi < prep.num_people) {
+          const SceneObject& obj = *prep.objects[oi];
+          instance[x] = static_cast<uint16_t>(obj.instance_id);
+          if (!obj.mesh.vertex_part.empty()) {
+            const float b0 = 1 - b1 - b2;
+            const Eigen::Vector3i& f = obj.mesh.faces[face[x]];
+            const int k = (b0 >= b1 && b0 >= b2) ? 0 : (b1 >= b2 ? 1 : 2);
+            part[x] = static_cast<uint8_t>(obj.mesh.vertex_part[f[k]]);
+          }
         }
-        const Eigen::Vector3f point =
-            b0 * mesh.vertices[f[0]] + b1 * mesh.vertices[f[1]] + b2 * mesh.vertices[f[2]];
-        const Eigen::Vector3f tc =
-            b0 * mesh.texcoords[f[0]] + b1 * mesh.texcoords[f[1]] + b2 * mesh.texcoords[f[2]];
-        const std::vector<Eigen::Vector3f>& vn = prep.normals[oi];
-        Eigen::Vector3f normal = b0 * vn[f[0]] + b1 * vn[f[1]] + b2 * vn[f[2]];
-        if (normal.squaredNorm() < 1e-12f)
-          normal = (mesh.vertices[f[1]] - mesh.vertices[f[0]])
-                       .cross(mesh.vertices[f[2]] - mesh.vertices[f[0]]);
-        normal.normalize();
-        Eigen::Vector3f to_eye = (center.cast<float>() - point);
-        to_eye.normalize();
-        float facing = normal.dot(to_eye);
-        if (facing < 0) {
-          normal = -normal;
-          facing = -facing;
+        if (cached != nullptr && oi >= prep.num_people) {
+          lin = Eigen::Vector3f(cached[x][0], cached[x][1], cached[x][2]);
+        } else {
+          lin = ShadeLinear(prep, oi, face[x], b1, b2, depth[x], center, light, fx, o);
         }
-        const float footprint =
-            o.texture_filtering ? static_cast<float>(depth[x] / fx) / std::max(facing, 0.25f) : 0;
-        const size_t mi = mesh.face_material.empty() ? 0 : mesh.face_material[face[x]];
-        const Eigen::Vector3f albedo = EvaluateMaterial(obj.materials[mi], tc, footprint);
-        const float lambert = std::max(0.0f, normal.dot(light.cast<float>()));
-        const float shade = gain * (o.ambient + o.light_intensity * lambert);
         for (int c = 0; c < 3; ++c) {
-          const float s = std::clamp(albedo[c] * shade, 0.0f, 1.0f) * kGammaSteps;
+          const float s = std::clamp(lin[c] * gain, 0.0f, 1.0f) * kGammaSteps;
           const int i = static_cast<int>(s);
           color[x][c] = gamma_table[i] + (s - i) * (gamma_table[i + 1] - gamma_table[i]);
         }
@@ -321,6 +377,8 @@ RenderedView RenderPrepared(const Camera& camera, const SceneFrame& frame,
   color_f.convertTo(out.color, CV_8UC3);
 
   if (o.compute_visibility) {
+    const Intrinsics in{camera.K(0, 0), camera.K(0, 1), camera.K(0, 2), camera.K(1, 1),
+                        camera.K(1, 2)};
     cv::Mat coverage(h, w, CV_8UC1);
     Buffers cov;
     cov.width = w;
@@ -421,18 +479,22 @@ const SceneObject* FindObject(const SceneFrame& frame, int value) {
 }
 
 RenderedView RenderView(const Camera& camera, const SceneFrame& frame, const RenderOptions& options,
-                        int view_index) {
+                        int view_index, const StaticLayer* layer) {
   options.Check();
   camera.Check("RenderView camera");
   U4D_CHECK(
       !camera.HasDistortion(),
       "RenderView: the camera has lens distortion; the rasteriser supports pinhole cameras only");
   CheckSceneFrame(frame);
-  return RenderPrepared(camera, frame, Prepare(frame), options, view_index);
+  return RenderPrepared(camera, frame, Prepare(frame), options, view_index, layer);
 }
 
 std::vector<RenderedView> RenderViews(const std::vector<Camera>& cameras, const SceneFrame& frame,
-                                      const RenderOptions& options) {
+                                      const RenderOptions& options,
+                                      const std::vector<StaticLayer>* layers) {
+  U4D_CHECK(layers == nullptr || layers->size() == cameras.size(),
+            "RenderViews: {} static layers for {} cameras", layers ? layers->size() : 0,
+            cameras.size());
   options.Check();
   for (size_t v = 0; v < cameras.size(); ++v) {
     cameras[v].Check(fmt::format("RenderViews camera {}", v));
@@ -445,9 +507,60 @@ std::vector<RenderedView> RenderViews(const std::vector<Camera>& cameras, const 
   const PreparedFrame prep = Prepare(frame);
   std::vector<RenderedView> views(cameras.size());
   tbb::parallel_for(size_t{0}, cameras.size(), [&](size_t v) {
-    views[v] = RenderPrepared(cameras[v], frame, prep, options, static_cast<int>(v));
+    views[v] = RenderPrepared(cameras[v], frame, prep, options, static_cast<int>(v),
+                              layers != nullptr ? &(*layers)[v] : nullptr);
   });
   return views;
+}
+
+StaticLayer RenderStaticLayer(const Camera& camera, const std::vector<SceneObject>& statics,
+                              const RenderOptions& options) {
+  options.Check();
+  camera.Check("RenderStaticLayer camera");
+  U4D_CHECK(!camera.HasDistortion(),
+            "RenderStaticLayer: the camera has lens distortion; pinhole cameras only");
+  SceneFrame frame;
+  frame.statics = statics;
+  CheckSceneFrame(frame);
+  const PreparedFrame prep = Prepare(frame);
+  RenderedView ids;
+  InitIdBuffers(camera.width, camera.height, &ids);
+  std::vector<std::vector<Eigen::Vector3d>> cam_vertices;
+  RasterRange(camera, prep, 0, static_cast<int>(prep.objects.size()), options, &ids, &cam_vertices);
+  StaticLayer layer;
+  layer.camera = camera;
+  layer.num_statics = statics.size();
+  layer.depth = ids.depth;
+  layer.object = ids.object;
+  layer.face = ids.face;
+  layer.barycentric = ids.barycentric;
+  layer.shade = cv::Mat(camera.height, camera.width, CV_32FC3, cv::Scalar(0, 0, 0));
+  const Eigen::Vector3f light = (-options.light_direction.normalized()).cast<float>();
+  const Eigen::Vector3f center = camera.Center().cast<float>();
+  tbb::parallel_for(0, camera.height, [&](int y) {
+    const uint16_t* object = layer.object.ptr<uint16_t>(y);
+    const int32_t* face = layer.face.ptr<int32_t>(y);
+    const float* bary = layer.barycentric.ptr<float>(y);
+    const float* depth = layer.depth.ptr<float>(y);
+    cv::Vec3f* shade = layer.shade.ptr<cv::Vec3f>(y);
+    for (int x = 0; x < camera.width; ++x) {
+      if (object[x] == 0) continue;
+      const Eigen::Vector3f lin =
+          ShadeLinear(prep, object[x] - 1, face[x], bary[2 * x], bary[2 * x + 1], depth[x], center,
+                      light, camera.K(0, 0), options);
+      shade[x] = cv::Vec3f(lin[0], lin[1], lin[2]);
+    }
+  });
+  return layer;
+}
+
+std::vector<StaticLayer> RenderStaticLayers(const std::vector<Camera>& cameras,
+                                            const std::vector<SceneObject>& statics,
+                                            const RenderOptions& options) {
+  std::vector<StaticLayer> layers(cameras.size());
+  tbb::parallel_for(size_t{0}, cameras.size(),
+                    [&](size_t v) { layers[v] = RenderStaticLayer(cameras[v], statics, options); });
+  return layers;
 }
 
 namespace {

@@ -94,14 +94,41 @@ const SceneObject* FindObject(const SceneFrame& frame, int object_value);
 // non-finite vertex, more than 65534 objects).
 void CheckSceneFrame(const SceneFrame& frame);
 
+// The static objects of a scene rendered once for one camera: their id
+// buffers and their linear shaded colour (before gain, gamma and noise). A
+// static camera sees the same statics every frame, so RenderView can start
+// from the layer and rasterise and shade only the people: the result is
+// identical to a full render (tested), at a fraction of the cost when the
+// background's textures dominate.
+struct StaticLayer {
+  Camera camera;           // the camera it was rendered for
+  size_t num_statics = 0;  // frame.statics.size() it was rendered from
+  cv::Mat depth;           // CV_32FC1, z (m), +inf where nothing
+  cv::Mat object;          // CV_16UC1, 1 + index into statics, 0 = nothing
+  cv::Mat face;            // CV_32SC1
+  cv::Mat barycentric;     // CV_32FC2
+  cv::Mat shade;           // CV_32FC3, linear BGR albedo * light
+};
+
+StaticLayer RenderStaticLayer(const Camera& camera, const std::vector<SceneObject>& statics,
+                              const RenderOptions& options = {});
+std::vector<StaticLayer> RenderStaticLayers(const std::vector<Camera>& cameras,
+                                            const std::vector<SceneObject>& statics,
+                                            const RenderOptions& options = {});
+
 // Renders one view. `view_index` and frame.time select the sensor-noise stream
 // (deterministic: the same inputs give the same image) and the gain jitter.
+// With `layer` (rendered for this very camera from frame.statics) only the
+// people are rasterised; throws when the layer's camera or static count differ.
 RenderedView RenderView(const Camera& camera, const SceneFrame& frame,
-                        const RenderOptions& options = {}, int view_index = 0);
+                        const RenderOptions& options = {}, int view_index = 0,
+                        const StaticLayer* layer = nullptr);
 
-// Renders all views in parallel (TBB); view v uses view_index v.
+// Renders all views in parallel (TBB); view v uses view_index v and, when
+// given, (*layers)[v].
 std::vector<RenderedView> RenderViews(const std::vector<Camera>& cameras, const SceneFrame& frame,
-                                      const RenderOptions& options = {});
+                                      const RenderOptions& options = {},
+                                      const std::vector<StaticLayer>* layers = nullptr);
 
 struct FlowOptions {
   double depth_tolerance = 0.01;            // absolute part of the visibility tolerance (m)

@@ -6,6 +6,7 @@
 #include <opencv2/core.hpp>
 
 #include "u4d/synth/environment.h"
+#include "u4d/synth/people.h"
 #include "u4d/synth/rig.h"
 #include "u4d/synth/texture.h"
 #include "u4d/util/check.h"
@@ -429,6 +430,48 @@ TEST(Render, RejectsBadInput) {
   RenderOptions o;
   o.near_plane = 0;
   EXPECT_THROW(RenderView(cam, frame, o), Error);
+}
+
+}  // namespace
+}  // namespace u4d::synth
+
+namespace u4d::synth {
+namespace {
+
+// Starting from a cached static layer must give exactly the full render:
+// same pixels in every buffer, same visibility.
+TEST(StaticLayer, GivesTheSameRenderAsAFullRender) {
+  const PeopleScript script = MakeHandshakeScript(100, 25, 3);
+  SceneFrame frame;
+  PosePeople(script, 60, &frame);
+  EnvironmentOptions env;
+  env.seed = 11;
+  frame.statics = MakeEnvironment(env);
+  RigOptions rig;
+  rig.num_views = 3;
+  rig.image_width = 240;
+  rig.image_height = 136;
+  const std::vector<Camera> cameras = RigCameras(rig);
+  const std::vector<StaticLayer> layers = RenderStaticLayers(cameras, frame.statics);
+  const std::vector<RenderedView> full = RenderViews(cameras, frame);
+  const std::vector<RenderedView> cached = RenderViews(cameras, frame, {}, &layers);
+  for (size_t v = 0; v < cameras.size(); ++v) {
+    EXPECT_GT(cv::countNonZero(full[v].instance), 100) << "the people must be in view " << v;
+    EXPECT_EQ(cv::norm(full[v].color, cached[v].color, cv::NORM_INF), 0.0);
+    EXPECT_EQ(cv::norm(full[v].depth, cached[v].depth, cv::NORM_INF), 0.0);
+    EXPECT_EQ(cv::norm(full[v].instance, cached[v].instance, cv::NORM_INF), 0.0);
+    EXPECT_EQ(cv::norm(full[v].part, cached[v].part, cv::NORM_INF), 0.0);
+    EXPECT_EQ(cv::norm(full[v].object, cached[v].object, cv::NORM_INF), 0.0);
+    EXPECT_EQ(cv::norm(full[v].face, cached[v].face, cv::NORM_INF), 0.0);
+    EXPECT_EQ(cv::norm(full[v].barycentric, cached[v].barycentric, cv::NORM_INF), 0.0);
+    ASSERT_EQ(full[v].visibility.size(), cached[v].visibility.size());
+    for (size_t k = 0; k < full[v].visibility.size(); ++k) {
+      EXPECT_EQ(full[v].visibility[k].visible_pixels, cached[v].visibility[k].visible_pixels);
+      EXPECT_EQ(full[v].visibility[k].amodal_pixels, cached[v].visibility[k].amodal_pixels);
+    }
+  }
+  // A layer made for another camera is refused.
+  EXPECT_THROW(RenderView(cameras[0], frame, {}, 0, &layers[1]), Error);
 }
 
 }  // namespace

@@ -39,6 +39,8 @@ struct RigOptions {
   double bob_frequency_hz = 0.5;           // bobbing frequency
 
   void Check() const;  // throws u4d::Error on a non-positive size/count/fov or bad values
+  // True when the cameras move over time (rotation or bobbing).
+  bool IsMoving() const { return angular_speed_deg_per_s != 0 || bob_amplitude != 0; }
 };
 
 // A pinhole camera at `center` looking at `target` with world `up` pointing
