@@ -15,15 +15,11 @@ namespace {
 using nlohmann::json;
 
 double Number(const json& v, const std::string& ctx, const std::string& what) {
-  U4D_CHECK(v.is_number(), "{}: {} must be a number, found {}", ctx, what, v.dump());
-  const double d = v.get<double>();
-  U4D_CHECK(std::isfinite(d), "{}: {} is not finite", ctx, what);
-  return d;
+  return JsonNumber(v, ctx, what);
 }
 
 int64_t Integer(const json& v, const std::string& ctx, const std::string& what) {
-  U4D_CHECK(v.is_number_integer(), "{}: {} must be an integer, found {}", ctx, what, v.dump());
-  return v.get<int64_t>();
+  return JsonInteger(v, ctx, what);
 }
 
 CocoRle ParseRle(const json& seg, const std::string& ctx) {

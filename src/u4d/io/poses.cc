@@ -11,10 +11,7 @@ namespace {
 using nlohmann::json;
 
 double Number(const json& v, const std::string& ctx, const std::string& what) {
-  U4D_CHECK(v.is_number(), "{}: {} must be a number, found {}", ctx, what, v.dump());
-  const double d = v.get<double>();
-  U4D_CHECK(std::isfinite(d), "{}: {} is not finite", ctx, what);
-  return d;
+  return JsonNumber(v, ctx, what);
 }
 
 double Confidence(const json& v, const std::string& ctx, const std::string& what) {

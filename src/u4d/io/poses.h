@@ -53,9 +53,8 @@ enum Keypoint : int {
 };
 }  // namespace coco17
 
-// The internal skeleton, Human3.6M-17 order: the same indices as
-// synth::Joint in synth/scene.h (io may not include synth; poses_test.cc
-// checks that the two agree).
+// The internal skeleton: the paper's 17 joints in Human3.6M order. This is
+// the one definition; synth (scene.h) and later modules use it.
 namespace h36m17 {
 enum Joint : int {
   kPelvis = 0,

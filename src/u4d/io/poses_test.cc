@@ -6,31 +6,10 @@
 #include <opencv2/imgproc.hpp>
 
 #include "u4d/io/import_fourda.h"
-#include "u4d/synth/scene.h"  // header-only enum, only to check the copy in poses.h
 #include "u4d/util/check.h"
 
 namespace u4d {
 namespace {
-
-// Every joint of the copy in poses.h has the index of synth::Joint.
-constexpr bool SameSkeleton() {
-  const int ours[] = {h36m17::kPelvis,     h36m17::kRightHip,   h36m17::kRightKnee,
-                      h36m17::kRightAnkle, h36m17::kLeftHip,    h36m17::kLeftKnee,
-                      h36m17::kLeftAnkle,  h36m17::kSpine,      h36m17::kThorax,
-                      h36m17::kNeck,       h36m17::kHead,       h36m17::kLeftShoulder,
-                      h36m17::kLeftElbow,  h36m17::kLeftWrist,  h36m17::kRightShoulder,
-                      h36m17::kRightElbow, h36m17::kRightWrist, h36m17::kNumJoints};
-  const int theirs[] = {synth::kPelvis,     synth::kRightHip,   synth::kRightKnee,
-                        synth::kRightAnkle, synth::kLeftHip,    synth::kLeftKnee,
-                        synth::kLeftAnkle,  synth::kSpine,      synth::kThorax,
-                        synth::kNeck,       synth::kHead,       synth::kLeftShoulder,
-                        synth::kLeftElbow,  synth::kLeftWrist,  synth::kRightShoulder,
-                        synth::kRightElbow, synth::kRightWrist, synth::kNumJoints};
-  for (int i = 0; i < 18; ++i)
-    if (ours[i] != theirs[i]) return false;
-  return true;
-}
-static_assert(SameSkeleton());
 
 const fs::path kData = U4D_SHARED_DATA_DIR;
 

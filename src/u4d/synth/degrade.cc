@@ -516,8 +516,8 @@ DegradedMask DegradeInstanceMask(const cv::Mat& gt_ids, const cv::Mat& parts,
 // ------------------------------------------------------------ keypoints
 
 int CocoMirror(int k) {
-  U4D_CHECK(k >= 0 && k < kNumCocoKeypoints, "CocoMirror: keypoint {} out of range [0, 17)", k);
-  if (k == kCocoNose) return k;
+  U4D_CHECK(k >= 0 && k < coco17::kNumKeypoints, "CocoMirror: keypoint {} out of range [0, 17)", k);
+  if (k == coco17::kNose) return k;
   return (k % 2 == 1) ? k + 1 : k - 1;  // left ids are odd, right ids even
 }
 
@@ -534,7 +534,7 @@ void KeypointDegradeOptions::Check() const {
   CheckNonNeg(occluded_noise_scale, "KeypointDegradeOptions.occluded_noise_scale");
   CheckProb(confidence_mean, "KeypointDegradeOptions.confidence_mean");
   CheckNonNeg(confidence_std, "KeypointDegradeOptions.confidence_std");
-  U4D_CHECK(min_keypoints >= 0 && min_keypoints <= kNumCocoKeypoints,
+  U4D_CHECK(min_keypoints >= 0 && min_keypoints <= coco17::kNumKeypoints,
             "KeypointDegradeOptions.min_keypoints: expected in [0, 17], got {}", min_keypoints);
 }
 
@@ -585,7 +585,7 @@ KeypointDegradeOptions KeypointDegradeOptions::Harsh() {
 }
 
 std::vector<DetectedPose2d> DegradeKeypoints(
-    const std::vector<std::array<Eigen::Vector3d, kNumCocoKeypoints>>& coco_keypoints_3d,
+    const std::vector<std::array<Eigen::Vector3d, coco17::kNumKeypoints>>& coco_keypoints_3d,
     const Camera& camera, const cv::Mat& gt_ids, const KeypointDegradeOptions& options,
     uint64_t seed) {
   options.Check();
@@ -596,7 +596,7 @@ std::vector<DetectedPose2d> DegradeKeypoints(
             "DegradeKeypoints: gt_ids is {}x{} but the camera is {}x{}", gt_ids.cols, gt_ids.rows,
             camera.width, camera.height);
   for (size_t p = 0; p < coco_keypoints_3d.size(); ++p)
-    for (int k = 0; k < kNumCocoKeypoints; ++k)
+    for (int k = 0; k < coco17::kNumKeypoints; ++k)
       U4D_CHECK(coco_keypoints_3d[p][k].allFinite(),
                 "DegradeKeypoints: person {} keypoint {} is not finite", p, k);
   const uint64_t call_seed = Mix(options.seed, seed);
@@ -607,10 +607,10 @@ std::vector<DetectedPose2d> DegradeKeypoints(
     const int own_id = static_cast<int>(p) + 1;
     // Project; the stream draws a fixed number of values per keypoint so that
     // changing one probability does not shift the others' noise.
-    std::array<Eigen::Vector2d, kNumCocoKeypoints> projected;
-    std::array<bool, kNumCocoKeypoints> in_view;
+    std::array<Eigen::Vector2d, coco17::kNumKeypoints> projected;
+    std::array<bool, coco17::kNumKeypoints> in_view;
     int num_in_view = 0;
-    for (int k = 0; k < kNumCocoKeypoints; ++k) {
+    for (int k = 0; k < coco17::kNumKeypoints; ++k) {
       const Eigen::Vector3d& point = coco_keypoints_3d[p][k];
       in_view[k] = camera.Depth(point) > 0;
       if (in_view[k]) {
@@ -620,8 +620,9 @@ std::vector<DetectedPose2d> DegradeKeypoints(
       num_in_view += in_view[k];
     }
     const bool person_missed = rng.Bernoulli(options.person_miss_prob);
-    const bool from_behind = in_view[kCocoLeftShoulder] && in_view[kCocoRightShoulder] &&
-                             projected[kCocoLeftShoulder].x() < projected[kCocoRightShoulder].x();
+    const bool from_behind =
+        in_view[coco17::kLeftShoulder] && in_view[coco17::kRightShoulder] &&
+        projected[coco17::kLeftShoulder].x() < projected[coco17::kRightShoulder].x();
     const bool swapped =
         rng.Bernoulli(from_behind ? options.swap_prob_from_behind : options.swap_prob);
 
@@ -630,7 +631,7 @@ std::vector<DetectedPose2d> DegradeKeypoints(
     det.swapped = swapped;
     int detected = 0;
     double confidence_sum = 0;
-    for (int k = 0; k < kNumCocoKeypoints; ++k) {
+    for (int k = 0; k < coco17::kNumKeypoints; ++k) {
       // Fixed draws per keypoint.
       const double u_miss = rng.Uniform(), u_occ = rng.Uniform(), u_out = rng.Uniform();
       const double nx = rng.Normal(), ny = rng.Normal(), nc = rng.Normal();
@@ -660,7 +661,7 @@ std::vector<DetectedPose2d> DegradeKeypoints(
     }
     if (person_missed || num_in_view == 0 || detected < std::max(1, options.min_keypoints))
       continue;
-    det.score = confidence_sum / static_cast<double>(kNumCocoKeypoints);
+    det.score = confidence_sum / static_cast<double>(coco17::kNumKeypoints);
     detections.push_back(det);
   }
   std::stable_sort(

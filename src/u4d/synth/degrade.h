@@ -27,6 +27,7 @@
 
 #include "u4d/geometry/camera.h"
 #include "u4d/io/instance_mask.h"
+#include "u4d/io/poses.h"
 
 namespace u4d::synth {
 
@@ -138,27 +139,7 @@ DegradedMask DegradeInstanceMask(const cv::Mat& gt_ids, const cv::Mat& parts,
 
 // ------------------------------------------------------------ keypoints --
 
-// COCO-17 keypoint order (what OpenPose-like detectors report).
-enum CocoKeypoint : int {
-  kCocoNose = 0,
-  kCocoLeftEye,
-  kCocoRightEye,
-  kCocoLeftEar,
-  kCocoRightEar,
-  kCocoLeftShoulder,
-  kCocoRightShoulder,
-  kCocoLeftElbow,
-  kCocoRightElbow,
-  kCocoLeftWrist,
-  kCocoRightWrist,
-  kCocoLeftHip,
-  kCocoRightHip,
-  kCocoLeftKnee,
-  kCocoRightKnee,
-  kCocoLeftAnkle,
-  kCocoRightAnkle,
-  kNumCocoKeypoints
-};
+// COCO-17 keypoint order: coco17::Keypoint (io/poses.h).
 // The COCO index of the mirror keypoint (left <-> right; the nose maps to itself).
 int CocoMirror(int keypoint);
 
@@ -210,7 +191,7 @@ struct KeypointDegradeOptions {
 struct DetectedPose2d {
   // (x, y, confidence) in COCO-17 order, pixels per docs/conventions.md;
   // (0, 0, 0) = not detected.
-  std::array<Eigen::Vector3d, kNumCocoKeypoints> keypoints;
+  std::array<Eigen::Vector3d, coco17::kNumKeypoints> keypoints;
   double score = 0;      // mean confidence over the 17 keypoints
   int gt_person = -1;    // index into the input, for evaluation only
   bool swapped = false;  // left/right labels exchanged
@@ -224,7 +205,7 @@ struct DetectedPose2d {
 // Throws u4d::Error on a bad camera, a wrongly typed / sized gt_ids, a
 // non-finite keypoint, or invalid options.
 std::vector<DetectedPose2d> DegradeKeypoints(
-    const std::vector<std::array<Eigen::Vector3d, kNumCocoKeypoints>>& coco_keypoints_3d,
+    const std::vector<std::array<Eigen::Vector3d, coco17::kNumKeypoints>>& coco_keypoints_3d,
     const Camera& camera, const cv::Mat& gt_ids, const KeypointDegradeOptions& options,
     uint64_t seed);
 

@@ -494,8 +494,8 @@ TEST(DegradeKeypointsTest, OccludedKeypointsMissedOrLowConfidence) {
                          static_cast<int>(std::lround(px.x()))) == 2)
       occluded.insert(k);
   }
-  ASSERT_EQ(occluded, (std::set<int>{kCocoLeftElbow, kCocoLeftWrist, kCocoLeftHip, kCocoLeftKnee,
-                                     kCocoLeftAnkle}));
+  ASSERT_EQ(occluded, (std::set<int>{coco17::kLeftElbow, coco17::kLeftWrist, coco17::kLeftHip,
+                                     coco17::kLeftKnee, coco17::kLeftAnkle}));
   KeypointDegradeOptions o = KeypointDegradeOptions::None();
   o.occluded_miss_prob = 1;
   for (int seed = 0; seed < 5; ++seed) {
@@ -570,9 +570,9 @@ TEST(DegradeKeypointsTest, RejectsBadInput) {
   Camera bad_cam = cam;
   bad_cam.K(0, 0) = -1;
   EXPECT_THROW(DegradeKeypoints({Person(0, 4)}, bad_cam, ids, o, 0), Error);
-  EXPECT_EQ(CocoMirror(kCocoLeftAnkle), kCocoRightAnkle);
-  EXPECT_EQ(CocoMirror(kCocoRightEye), kCocoLeftEye);
-  EXPECT_EQ(CocoMirror(kCocoNose), kCocoNose);
+  EXPECT_EQ(CocoMirror(coco17::kLeftAnkle), coco17::kRightAnkle);
+  EXPECT_EQ(CocoMirror(coco17::kRightEye), coco17::kLeftEye);
+  EXPECT_EQ(CocoMirror(coco17::kNose), coco17::kNose);
 }
 
 }  // namespace

@@ -19,29 +19,13 @@
 
 #include <Eigen/Core>
 
+#include "u4d/io/poses.h"
+
 namespace u4d::synth {
 
-// The paper's 17-joint set, in Human3.6M order (the internal skeleton).
-enum Joint : int {
-  kPelvis = 0,
-  kRightHip,
-  kRightKnee,
-  kRightAnkle,
-  kLeftHip,
-  kLeftKnee,
-  kLeftAnkle,
-  kSpine,
-  kThorax,
-  kNeck,
-  kHead,
-  kLeftShoulder,
-  kLeftElbow,
-  kLeftWrist,
-  kRightShoulder,
-  kRightElbow,
-  kRightWrist,
-  kNumJoints
-};
+// The paper's 17-joint set, in Human3.6M order (the internal skeleton), is
+// defined once in io/poses.h (h36m17::Joint); synth uses it unqualified.
+using namespace ::u4d::h36m17;  // NOLINT(build/namespaces): the joint vocabulary
 using Joints3d = std::array<Eigen::Vector3d, kNumJoints>;  // world, metres
 
 // Body parts for per-pixel part maps (used to drop thin limbs from the

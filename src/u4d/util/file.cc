@@ -1,5 +1,6 @@
 #include "u4d/util/file.h"
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -35,6 +36,18 @@ nlohmann::json ReadJsonFile(const fs::path& path) {
   } catch (const nlohmann::json::parse_error& e) {
     ThrowError(fmt::format("{}: invalid JSON ({})", path.string(), e.what()));
   }
+}
+
+double JsonNumber(const nlohmann::json& v, const std::string& context, const std::string& what) {
+  U4D_CHECK(v.is_number(), "{}: {} must be a number, found {}", context, what, v.dump());
+  const double d = v.get<double>();
+  U4D_CHECK(std::isfinite(d), "{}: {} is not finite", context, what);
+  return d;
+}
+
+int64_t JsonInteger(const nlohmann::json& v, const std::string& context, const std::string& what) {
+  U4D_CHECK(v.is_number_integer(), "{}: {} must be an integer, found {}", context, what, v.dump());
+  return v.get<int64_t>();
 }
 
 void WriteAtomically(const fs::path& path, const std::function<void(const fs::path&)>& write_to) {

@@ -34,6 +34,11 @@ void WriteJsonFileAtomic(const fs::path& path, const nlohmann::json& json, int i
 
 // Typed access to a JSON field with an error naming `context` (usually the
 // file) and the key when the field is missing or has the wrong type.
+// A JSON value that must be a finite number / an integer; errors name
+// `context` (usually the file) and `what` (the field).
+double JsonNumber(const nlohmann::json& v, const std::string& context, const std::string& what);
+int64_t JsonInteger(const nlohmann::json& v, const std::string& context, const std::string& what);
+
 template <typename T>
 T JsonGet(const nlohmann::json& j, const std::string& key, const std::string& context);
 
