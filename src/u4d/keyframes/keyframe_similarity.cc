@@ -1,0 +1,445 @@
+#include "u4d/keyframes/keyframe_similarity.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "u4d/io/layout.h"
+#include "u4d/util/check.h"
+
+namespace u4d {
+
+void KeyframeObservations::Check() const {
+  U4D_CHECK(num_frames >= 1, "KeyframeObservations: num_frames must be >= 1, got {}", num_frames);
+  U4D_CHECK(!masks.empty(), "KeyframeObservations: no views (masks is empty)");
+  for (size_t v = 0; v < masks.size(); ++v) {
+    U4D_CHECK(static_cast<int>(masks[v].size()) == num_frames,
+              "KeyframeObservations: view {} has {} masks, expected {}", v, masks[v].size(),
+              num_frames);
+    cv::Size size;
+    for (size_t f = 0; f < masks[v].size(); ++f) {
+      const cv::Mat& ids = masks[v][f].ids;
+      if (ids.empty()) continue;
+      U4D_CHECK(ids.type() == CV_16UC1,
+                "KeyframeObservations: mask of view {} frame {} is not CV_16UC1", v, f);
+      if (size.area() == 0) size = ids.size();
+      U4D_CHECK(
+          ids.size() == size,
+          "KeyframeObservations: mask of view {} frame {} is {}x{}, the view's first is {}x{}", v,
+          f, ids.cols, ids.rows, size.width, size.height);
+    }
+  }
+  U4D_CHECK(poses.empty() || static_cast<int>(poses.size()) == num_frames,
+            "KeyframeObservations: {} pose frames for {} frames", poses.size(), num_frames);
+}
+
+int KeyframeOptions::NumTerms() const {
+  return use_correspondence + use_semantic + use_distance + use_pose + use_shape;
+}
+
+void KeyframeOptions::Check() const {
+  U4D_CHECK(threshold >= 0 && threshold <= 1, "KeyframeOptions.threshold must be in [0, 1], got {}",
+            threshold);
+  U4D_CHECK(NumTerms() >= 1, "KeyframeOptions: at least one term must be switched on");
+  U4D_CHECK(distance_scale > 0, "KeyframeOptions.distance_scale must be > 0, got {}",
+            distance_scale);
+  U4D_CHECK(pose_scale_m > 0, "KeyframeOptions.pose_scale_m must be > 0, got {}", pose_scale_m);
+  U4D_CHECK(min_common_joints >= 1 && min_common_joints <= 17,
+            "KeyframeOptions.min_common_joints must be in [1, 17], got {}", min_common_joints);
+}
+
+namespace {
+
+// One instance of one mask, with what the terms need.
+struct Object {
+  int id = 0;
+  std::string label;
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  cv::Rect box;
+  cv::Mat crop;  // CV_8U 0/1 over `box`
+  long area = 0;
+};
+
+std::vector<Object> Objects(const InstanceMask& mask) {
+  std::map<int, Object> by_id;
+  const cv::Mat& ids = mask.ids;
+  std::map<int, std::pair<cv::Point, cv::Point>> extent;
+  for (int y = 0; y < ids.rows; ++y) {
+    const uint16_t* row = ids.ptr<uint16_t>(y);
+    for (int x = 0; x < ids.cols; ++x) {
+      if (row[x] == 0) continue;
+      Object& o = by_id[row[x]];
+      o.centroid += Eigen::Vector2d(x, y);
+      ++o.area;
+      auto [it, fresh] = extent.try_emplace(row[x], cv::Point(x, y), cv::Point(x, y));
+      if (!fresh) {
+        it->second.first = {std::min(it->second.first.x, x), std::min(it->second.first.y, y)};
+        it->second.second = {std::max(it->second.second.x, x), std::max(it->second.second.y, y)};
+      }
+    }
+  }
+  std::vector<Object> out;
+  for (auto& [id, o] : by_id) {
+    o.id = id;
+    const InstanceInfo* info = mask.Find(id);
+    o.label = info ? info->label : "unknown";
+    o.centroid /= static_cast<double>(o.area);
+    const auto& [lo, hi] = extent[id];
+    o.box = cv::Rect(lo, cv::Point(hi.x + 1, hi.y + 1));
+    o.crop = ids(o.box) == id;
+    o.crop /= 255;
+    out.push_back(std::move(o));
+  }
+  return out;
+}
+
+// IoU of two silhouettes with b translated so that the centroids coincide.
+double AlignedIoU(const Object& a, const Object& b) {
+  const Eigen::Vector2d shift = a.centroid - b.centroid;
+  const int dx = static_cast<int>(std::lround(shift.x())),
+            dy = static_cast<int>(std::lround(shift.y()));
+  const cv::Rect bb(b.box.x + dx, b.box.y + dy, b.box.width, b.box.height);
+  const cv::Rect u = a.box | bb;
+  cv::Mat ca = cv::Mat::zeros(u.size(), CV_8U), cb = cv::Mat::zeros(u.size(), CV_8U);
+  a.crop.copyTo(ca(cv::Rect(a.box.x - u.x, a.box.y - u.y, a.box.width, a.box.height)));
+  b.crop.copyTo(cb(cv::Rect(bb.x - u.x, bb.y - u.y, bb.width, bb.height)));
+  const double inter = cv::countNonZero(ca & cb), uni = cv::countNonZero(ca | cb);
+  return uni > 0 ? inter / uni : 1.0;
+}
+
+// Greedy matching of same-class objects by increasing centroid distance.
+std::vector<std::pair<int, int>> MatchObjects(const std::vector<Object>& a,
+                                              const std::vector<Object>& b) {
+  std::vector<std::tuple<double, int, int>> cand;
+  for (size_t p = 0; p < a.size(); ++p) {
+    for (size_t q = 0; q < b.size(); ++q) {
+      if (a[p].label == b[q].label) {
+        cand.emplace_back((a[p].centroid - b[q].centroid).norm(), p, q);
+      }
+    }
+  }
+  std::sort(cand.begin(), cand.end());
+  std::vector<bool> used_a(a.size()), used_b(b.size());
+  std::vector<std::pair<int, int>> out;
+  for (const auto& [d, p, q] : cand) {
+    if (used_a[p] || used_b[q]) continue;
+    used_a[p] = used_b[q] = true;
+    out.emplace_back(p, q);
+  }
+  return out;
+}
+
+double SemanticTerm(const std::vector<Object>& a, const std::vector<Object>& b) {
+  std::map<std::string, std::pair<int, int>> counts;
+  for (const Object& o : a) ++counts[o.label].first;
+  for (const Object& o : b) ++counts[o.label].second;
+  double mn = 0, mx = 0;
+  for (const auto& [label, c] : counts) {
+    mn += std::min(c.first, c.second);
+    mx += std::max(c.first, c.second);
+  }
+  return mx > 0 ? 1.0 - mn / mx : 0.0;
+}
+
+// Root-relative MPJPE of two poses, or NaN with too few common joints.
+double RootRelativeMpjpe(const Pose3d& a, const Pose3d& b, int min_common) {
+  std::vector<int> common;
+  for (int j = 0; j < h36m17::kNumJoints; ++j) {
+    if (a.joints[j].w() > 0 && b.joints[j].w() > 0) common.push_back(j);
+  }
+  if (static_cast<int>(common.size()) < min_common) return std::numeric_limits<double>::quiet_NaN();
+  Eigen::Vector3d ra = Eigen::Vector3d::Zero(), rb = Eigen::Vector3d::Zero();
+  if (a.joints[h36m17::kPelvis].w() > 0 && b.joints[h36m17::kPelvis].w() > 0) {
+    ra = a.joints[h36m17::kPelvis].head<3>();
+    rb = b.joints[h36m17::kPelvis].head<3>();
+  } else {
+    for (int j : common) ra += a.joints[j].head<3>(), rb += b.joints[j].head<3>();
+    ra /= common.size();
+    rb /= common.size();
+  }
+  double sum = 0;
+  for (int j : common) sum += ((a.joints[j].head<3>() - ra) - (b.joints[j].head<3>() - rb)).norm();
+  return sum / common.size();
+}
+
+Eigen::Vector3d PoseCentre(const Pose3d& p) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  int n = 0;
+  for (const auto& j : p.joints) {
+    if (j.w() > 0) c += j.head<3>(), ++n;
+  }
+  return n ? Eigen::Vector3d(c / n) : c;
+}
+
+double PoseTerm(const std::vector<Pose3d>& a, const std::vector<Pose3d>& b,
+                const KeyframeOptions& options) {
+  const size_t slots = std::max(a.size(), b.size());
+  if (slots == 0) return 0.0;
+  // Pairs: same person_id when both are known, else greedy by centre distance.
+  std::vector<std::tuple<double, int, int>> cand;
+  for (size_t p = 0; p < a.size(); ++p) {
+    for (size_t q = 0; q < b.size(); ++q) {
+      if (a[p].person_id >= 0 && b[q].person_id >= 0) {
+        if (a[p].person_id == b[q].person_id) cand.emplace_back(-1.0, p, q);
+      } else {
+        cand.emplace_back((PoseCentre(a[p]) - PoseCentre(b[q])).norm(), p, q);
+      }
+    }
+  }
+  std::sort(cand.begin(), cand.end());
+  std::vector<bool> used_a(a.size()), used_b(b.size());
+  double sum = 0;
+  size_t matched = 0;
+  for (const auto& [d, p, q] : cand) {
+    if (used_a[p] || used_b[q]) continue;
+    used_a[p] = used_b[q] = true;
+    ++matched;
+    const double e = RootRelativeMpjpe(a[p], b[q], options.min_common_joints);
+    sum += std::isfinite(e) ? std::min(1.0, e / options.pose_scale_m) : 1.0;
+  }
+  return (sum + static_cast<double>(slots - matched)) / slots;
+}
+
+// Per-view, per-frame precomputation shared by all pairs.
+struct Prepared {
+  std::vector<std::vector<std::vector<Object>>> objects;  // [view][frame]
+  std::vector<std::vector<std::vector<int>>> tracks_at;   // [view][frame] -> track indices
+  std::vector<double> diagonal;                           // [view]
+};
+
+Prepared Prepare(const KeyframeObservations& obs) {
+  obs.Check();
+  Prepared p;
+  p.objects.resize(obs.NumViews());
+  p.tracks_at.assign(obs.NumViews(), std::vector<std::vector<int>>(obs.num_frames));
+  p.diagonal.assign(obs.NumViews(), 1.0);
+  for (int v = 0; v < obs.NumViews(); ++v) {
+    for (int f = 0; f < obs.num_frames; ++f) {
+      const cv::Mat& ids = obs.masks[v][f].ids;
+      p.objects[v].push_back(Objects(obs.masks[v][f]));
+      if (!ids.empty()) p.diagonal[v] = std::hypot(ids.cols, ids.rows);
+    }
+  }
+  for (size_t t = 0; t < obs.tracks.size(); ++t) {
+    const TemporalTrack& tr = obs.tracks[t];
+    if (tr.from_joint || tr.instance == 0) continue;
+    U4D_CHECK(tr.view >= 0 && tr.view < obs.NumViews(),
+              "KeyframeObservations: track {} has view {} outside [0, {})", t, tr.view,
+              obs.NumViews());
+    for (const auto& [frame, px] : tr.points) {
+      if (frame >= 0 && frame < obs.num_frames) p.tracks_at[tr.view][frame].push_back(t);
+    }
+  }
+  return p;
+}
+
+KeyframeTerms Terms(const KeyframeObservations& obs, const Prepared& prep, int view, int i, int j,
+                    const KeyframeOptions& options) {
+  KeyframeTerms t;
+  if (i == j) return t;
+  // M: Dice overlap of the tracks present at i and at j (index lists are sorted).
+  const auto& ti = prep.tracks_at[view][i];
+  const auto& tj = prep.tracks_at[view][j];
+  std::vector<int> both;
+  std::set_intersection(ti.begin(), ti.end(), tj.begin(), tj.end(), std::back_inserter(both));
+  t.m = ti.size() + tj.size() > 0 ? 1.0 - 2.0 * both.size() / (ti.size() + tj.size()) : 1.0;
+  const auto& oi = prep.objects[view][i];
+  const auto& oj = prep.objects[view][j];
+  t.l = SemanticTerm(oi, oj);
+  const size_t slots = std::max(oi.size(), oj.size());
+  if (slots > 0) {
+    double d = 0, s = 0;
+    const auto pairs = MatchObjects(oi, oj);
+    for (const auto& [p, q] : pairs) {
+      d += std::min(1.0, (oi[p].centroid - oj[q].centroid).norm() /
+                             (options.distance_scale * prep.diagonal[view]));
+      s += 1.0 - AlignedIoU(oi[p], oj[q]);
+    }
+    const double unmatched = static_cast<double>(slots - pairs.size());
+    t.d = (d + unmatched) / slots;
+    t.i = (s + unmatched) / slots;
+  }
+  t.p = obs.poses.empty() ? 0.0 : PoseTerm(obs.poses[i], obs.poses[j], options);
+  return t;
+}
+
+double Sum(const KeyframeTerms& t, const KeyframeOptions& o) {
+  return (o.use_correspondence ? t.m : 0) + (o.use_semantic ? t.l : 0) +
+         (o.use_distance ? t.d : 0) + (o.use_pose ? t.p : 0) + (o.use_shape ? t.i : 0);
+}
+
+}  // namespace
+
+KeyframeTerms KeyframeTermsAt(const KeyframeObservations& obs, int view, int i, int j,
+                              const KeyframeOptions& options) {
+  options.Check();
+  U4D_CHECK(view >= 0 && view < obs.NumViews(), "KeyframeTermsAt: view {} outside [0, {})", view,
+            obs.NumViews());
+  U4D_CHECK(i >= 0 && j >= 0 && i < obs.num_frames && j < obs.num_frames,
+            "KeyframeTermsAt: frames ({}, {}) outside [0, {})", i, j, obs.num_frames);
+  return Terms(obs, Prepare(obs), view, i, j, options);
+}
+
+Eigen::MatrixXd KeyframeSimilarityMatrix(const KeyframeObservations& obs,
+                                         const KeyframeOptions& options) {
+  options.Check();
+  const Prepared prep = Prepare(obs);
+  const int n = obs.num_frames;
+  Eigen::MatrixXd ks = Eigen::MatrixXd::Identity(n, n);
+  const double norm = 1.0 / (options.NumTerms() * obs.NumViews());
+  for (int i = 0; i < n; ++i) {
+    for (int j = i + 1; j < n; ++j) {
+      double sum = 0;
+      for (int v = 0; v < obs.NumViews(); ++v)
+        sum += Sum(Terms(obs, prep, v, i, j, options), options);
+      ks(i, j) = ks(j, i) = 1.0 - norm * sum;
+    }
+  }
+  return ks;
+}
+
+KeyframeSelection SelectKeyframes(const Eigen::MatrixXd& similarity, double threshold) {
+  const int n = static_cast<int>(similarity.rows());
+  U4D_CHECK(n >= 1 && similarity.cols() == n,
+            "SelectKeyframes: similarity must be square and non-empty, got {}x{}",
+            similarity.rows(), similarity.cols());
+  U4D_CHECK(threshold >= 0 && threshold <= 1, "SelectKeyframes: threshold {} outside [0, 1]",
+            threshold);
+  auto similar = [&](int a, int b) { return a == b || similarity(a, b) > threshold; };
+  KeyframeSelection s;
+  s.threshold = threshold;
+  s.similarity = similarity;
+  std::vector<bool> covered(n, false);
+  int left = n;
+  while (left > 0) {
+    int best = -1, best_gain = -1;
+    for (int k = 0; k < n; ++k) {
+      int gain = 0;
+      for (int t = 0; t < n; ++t) gain += !covered[t] && similar(k, t);
+      if (gain > best_gain) best = k, best_gain = gain;
+    }
+    s.keyframes.push_back(best);
+    for (int t = 0; t < n; ++t) {
+      if (!covered[t] && similar(best, t)) covered[t] = true, --left;
+    }
+  }
+  std::sort(s.keyframes.begin(), s.keyframes.end());
+  s.frame_keyframe.assign(n, -1);
+  s.frame_segment.assign(n, 0);
+  s.segment_lengths.assign(s.keyframes.size(), 0);
+  for (int t = 0; t < n; ++t) {
+    double best_ks = -1;
+    for (int k : s.keyframes) {
+      if (!similar(k, t)) continue;
+      const double ks = k == t ? 2.0 : similarity(k, t);
+      const int cur = s.frame_keyframe[t];
+      if (ks > best_ks || (ks == best_ks && std::abs(k - t) < std::abs(cur - t))) {
+        best_ks = ks;
+        s.frame_keyframe[t] = k;
+      }
+    }
+    U4D_ASSERT(s.frame_keyframe[t] >= 0);
+    int seg = 0;
+    for (size_t q = 0; q < s.keyframes.size(); ++q) {
+      if (s.keyframes[q] <= t) seg = static_cast<int>(q);
+    }
+    s.frame_segment[t] = seg;
+    ++s.segment_lengths[seg];
+  }
+  return s;
+}
+
+void WriteKeyframes(const fs::path& path, const KeyframeSelection& s) {
+  nlohmann::json j;
+  j["format"] = "u4d-keyframes";
+  j["threshold"] = s.threshold;
+  j["num_frames"] = s.frame_segment.size();
+  j["keyframes"] = s.keyframes;
+  j["frame_keyframe"] = s.frame_keyframe;
+  j["frame_segment"] = s.frame_segment;
+  j["segment_lengths"] = s.segment_lengths;
+  nlohmann::json rows = nlohmann::json::array();
+  for (int r = 0; r < s.similarity.rows(); ++r) {
+    std::vector<double> row(s.similarity.cols());
+    for (int c = 0; c < s.similarity.cols(); ++c) row[c] = s.similarity(r, c);
+    rows.push_back(row);
+  }
+  j["similarity"] = rows;
+  WriteJsonFileAtomic(path, j);
+}
+
+KeyframeSelection ReadKeyframes(const fs::path& path) {
+  const nlohmann::json j = ReadJsonFile(path);
+  const std::string ctx = path.string();
+  U4D_CHECK(j.is_object() && j.value("format", "") == "u4d-keyframes",
+            "{}: not a keyframes file (\"format\" must be \"u4d-keyframes\")", ctx);
+  KeyframeSelection s;
+  s.threshold = JsonNumber(j.at("threshold"), ctx, "threshold");
+  const int n = static_cast<int>(JsonInteger(j.at("num_frames"), ctx, "num_frames"));
+  U4D_CHECK(n >= 1, "{}: num_frames must be >= 1, got {}", ctx, n);
+  auto ints = [&](const char* key, size_t expected, int lo, int hi) {
+    U4D_CHECK(j.contains(key) && j[key].is_array(), "{}: \"{}\" must be an array", ctx, key);
+    std::vector<int> out;
+    for (const auto& v : j[key]) {
+      const int x = static_cast<int>(JsonInteger(v, ctx, key));
+      U4D_CHECK(x >= lo && x < hi, "{}: \"{}\" value {} outside [{}, {})", ctx, key, x, lo, hi);
+      out.push_back(x);
+    }
+    U4D_CHECK(expected == 0 || out.size() == expected, "{}: \"{}\" has {} entries, expected {}",
+              ctx, key, out.size(), expected);
+    return out;
+  };
+  s.keyframes = ints("keyframes", 0, 0, n);
+  U4D_CHECK(!s.keyframes.empty(), "{}: no key-frames", ctx);
+  s.frame_keyframe = ints("frame_keyframe", n, 0, n);
+  s.frame_segment = ints("frame_segment", n, 0, static_cast<int>(s.keyframes.size()));
+  s.segment_lengths = ints("segment_lengths", s.keyframes.size(), 0, n + 1);
+  U4D_CHECK(std::is_sorted(s.keyframes.begin(), s.keyframes.end()) &&
+                std::adjacent_find(s.keyframes.begin(), s.keyframes.end()) == s.keyframes.end(),
+            "{}: \"keyframes\" must be strictly increasing", ctx);
+  for (int k : s.frame_keyframe) {
+    U4D_CHECK(std::binary_search(s.keyframes.begin(), s.keyframes.end(), k),
+              "{}: frame_keyframe {} is not a key-frame", ctx, k);
+  }
+  U4D_CHECK(j.contains("similarity") && j["similarity"].is_array() &&
+                static_cast<int>(j["similarity"].size()) == n,
+            "{}: \"similarity\" must be {} rows", ctx, n);
+  s.similarity.resize(n, n);
+  for (int r = 0; r < n; ++r) {
+    const auto& row = j["similarity"][r];
+    U4D_CHECK(row.is_array() && static_cast<int>(row.size()) == n,
+              "{}: similarity row {} must have {} values", ctx, r, n);
+    for (int c = 0; c < n; ++c) s.similarity(r, c) = JsonNumber(row[c], ctx, "similarity");
+  }
+  return s;
+}
+
+KeyframeObservations ReadKeyframeObservations(const Capture& capture, bool ground_truth,
+                                              std::vector<TemporalTrack> tracks) {
+  KeyframeObservations obs;
+  obs.num_frames = capture.num_frames;
+  obs.masks.resize(capture.NumViews());
+  for (int v = 0; v < capture.NumViews(); ++v) {
+    const std::string& name = capture.views[v].name;
+    for (int f = 0; f < capture.num_frames; ++f) {
+      const fs::path png =
+          capture.root / (ground_truth ? layout::GtInstances(name, f) : layout::Mask(name, f));
+      const fs::path info = capture.root / (ground_truth ? layout::GtInstancesInfo(name, f)
+                                                         : layout::MaskInfo(name, f));
+      obs.masks[v].push_back(fs::exists(png) ? ReadInstanceMask(png, info) : InstanceMask{});
+    }
+  }
+  bool any = false;
+  std::vector<std::vector<Pose3d>> poses(capture.num_frames);
+  for (int f = 0; f < capture.num_frames; ++f) {
+    const fs::path p = capture.root / (ground_truth ? layout::GtJoints3d(f) : layout::Poses3d(f));
+    if (fs::exists(p)) poses[f] = ReadPoses3d(p), any = true;
+  }
+  if (any) obs.poses = std::move(poses);
+  obs.tracks = std::move(tracks);
+  obs.Check();
+  return obs;
+}
+
+}  // namespace u4d

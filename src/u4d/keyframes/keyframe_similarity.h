@@ -1,0 +1,118 @@
+// Key-frame similarity and key-frame detection (paper Sec. 2.1.3, Eq. for
+// KS_ij, "Long-term temporal coherence").
+//
+//   KS_ij = 1 - 1/(5 N_v) sum_{c=1..N_v} (M^c_ij + L^c_ij + D^c_ij + P^c_ij + I^c_ij)
+//
+// with five per-view dissimilarities in [0, 1]. The paper defines them in its
+// Appendix B, which is not available; the definitions here are our own and
+// are written out precisely in docs/keyframes.md:
+//   M  sparse correspondence: 1 - Dice overlap of the feature tracks on
+//      objects present at i and at j: 1 - 2 n_ij / (n_i + n_j)
+//   L  semantic: 1 - weighted Jaccard of the per-class instance counts
+//   D  distance: mean over matched objects of min(1, centroid shift /
+//      (distance_scale * image diagonal)); an unmatched object counts 1
+//   P  pose: mean over matched people of min(1, root-relative MPJPE /
+//      pose_scale_m); an unmatched person counts 1 (view-independent)
+//   I  shape: mean over matched objects of 1 - IoU of the silhouettes after
+//      aligning their centroids; an unmatched object counts 1
+// Switching a term off (KeyframeOptions::use_*) drops it and divides by the
+// number of terms left instead of 5, so KS stays in [0, 1]; with all five on
+// this is exactly the paper's equation. KS_ii = 1.
+//
+// Selection: frames i, j are similar when KS_ij > threshold (0.75, the
+// paper's). Greedy cover: repeatedly the frame similar to the most frames not
+// yet covered (ties: the earlier frame) becomes a key-frame, until every
+// frame is covered. Each frame is assigned to the key-frame it is most similar
+// to among those it is similar to (its "own" key-frame), and to the temporal
+// segment s with K_s <= t < K_{s+1} (frames before K_0 join segment 0); N_f^s
+// is the number of frames of segment s.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "u4d/features/temporal_tracks.h"
+#include "u4d/io/capture.h"
+#include "u4d/io/instance_mask.h"
+#include "u4d/io/poses.h"
+
+namespace u4d {
+
+// What the similarity looks at, for frames 0..num_frames-1 of a sequence.
+struct KeyframeObservations {
+  int num_frames = 0;
+  // masks[view][frame]: instance masks; an empty `ids` means nothing detected.
+  std::vector<std::vector<InstanceMask>> masks;
+  // poses[frame]: 3D poses (may be empty: then P is 0 for every pair).
+  std::vector<std::vector<Pose3d>> poses;
+  // Temporal tracks (temporal_tracks.h); M uses the feature tracks only.
+  std::vector<TemporalTrack> tracks;
+
+  int NumViews() const { return static_cast<int>(masks.size()); }
+  // Throws u4d::Error when masks is not [views][num_frames], a non-empty mask
+  // is not CV_16UC1 or differs in size from the view's other masks, or poses
+  // is neither empty nor num_frames long.
+  void Check() const;
+};
+
+struct KeyframeOptions {
+  double threshold = 0.75;         // frames are similar when KS > threshold (paper: 0.75)
+  bool use_correspondence = true;  // term M
+  bool use_semantic = true;        // term L
+  bool use_distance = true;        // term D
+  bool use_pose = true;            // term P
+  bool use_shape = true;           // term I
+  // D saturates (= 1) at a centroid shift of this fraction of the image diagonal.
+  double distance_scale = 0.25;
+  // P saturates at this root-relative MPJPE (metres); see docs/keyframes.md.
+  double pose_scale_m = 0.3;
+  // Two poses with fewer common joints (confidence > 0) count as dissimilar (P = 1).
+  int min_common_joints = 8;
+
+  int NumTerms() const;  // the terms switched on
+  void Check() const;    // throws on a threshold outside [0, 1], no term, bad scales
+};
+
+// The five per-view terms of one frame pair, each in [0, 1].
+struct KeyframeTerms {
+  double m = 0, l = 0, d = 0, p = 0, i = 0;
+};
+
+// The terms of frames (i, j) in `view`.
+KeyframeTerms KeyframeTermsAt(const KeyframeObservations& obs, int view, int i, int j,
+                              const KeyframeOptions& options = {});
+
+// The symmetric N_f x N_f matrix KS (Eq. KS_ij), ones on the diagonal.
+Eigen::MatrixXd KeyframeSimilarityMatrix(const KeyframeObservations& obs,
+                                         const KeyframeOptions& options = {});
+
+struct KeyframeSelection {
+  double threshold = 0.75;
+  std::vector<int> keyframes;        // increasing frame indices
+  std::vector<int> frame_keyframe;   // per frame: its own key-frame (a frame index)
+  std::vector<int> frame_segment;    // per frame: segment s, K_s <= t < K_{s+1}
+  std::vector<int> segment_lengths;  // N_f^s, one per key-frame
+  Eigen::MatrixXd similarity;        // KS
+};
+
+// Greedy cover of the frames by key-frames (see the top of this file).
+// Throws when `similarity` is not square or empty.
+KeyframeSelection SelectKeyframes(const Eigen::MatrixXd& similarity, double threshold = 0.75);
+
+// keyframes.json: {"format": "u4d-keyframes", "threshold", "num_frames",
+// "keyframes", "frame_keyframe", "frame_segment", "segment_lengths",
+// "similarity": [[...] per frame]}. Read throws naming the file on a wrong
+// format, inconsistent lengths or out-of-range frames.
+void WriteKeyframes(const fs::path& path, const KeyframeSelection& selection);
+KeyframeSelection ReadKeyframes(const fs::path& path);
+
+// Observations of a capture: masks from gt/instances (ground_truth) or masks/
+// (a missing file = nothing detected), poses from gt/joints3d or poses3d/ (a
+// missing file = no poses that frame), and the given tracks.
+KeyframeObservations ReadKeyframeObservations(const Capture& capture, bool ground_truth,
+                                              std::vector<TemporalTrack> tracks);
+
+}  // namespace u4d
