@@ -108,6 +108,13 @@ int PersonIdField(const json& p, const std::string& ctx) {
 
 }  // namespace
 
+int Coco17Mirror(int keypoint) {
+  U4D_CHECK(keypoint >= 0 && keypoint < coco17::kNumKeypoints,
+            "Coco17Mirror: keypoint {} out of range [0, 17)", keypoint);
+  if (keypoint == coco17::kNose) return keypoint;
+  return (keypoint % 2 == 1) ? keypoint + 1 : keypoint - 1;  // left ids are odd, right even
+}
+
 const std::array<std::string, 17>& Coco17Names() {
   static const std::array<std::string, 17> kNames = {
       "nose",           "left_eye",   "right_eye",   "left_ear",   "right_ear",   "left_shoulder",

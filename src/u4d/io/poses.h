@@ -81,6 +81,10 @@ enum Joint : int {
 // Names, for messages and documentation ("nose", "left_eye", ... / "pelvis",
 // "right_hip", ...).
 const std::array<std::string, 17>& Coco17Names();
+
+// The COCO-17 index of the mirror keypoint (left <-> right; the nose maps to
+// itself). Throws when `keypoint` is not in [0, 17).
+int Coco17Mirror(int keypoint);
 const std::array<std::string, 17>& H36m17Names();
 
 using Keypoints2d = std::array<Eigen::Vector3d, 17>;   // x, y (pixels), confidence

@@ -35,8 +35,7 @@ void MultiViewPoseOptions::Check() const {
 
 Keypoints2d MirrorCoco17(const Keypoints2d& keypoints) {
   Keypoints2d out;
-  out[0] = keypoints[0];
-  for (int k = 1; k < 17; ++k) out[k] = keypoints[(k % 2 == 1) ? k + 1 : k - 1];
+  for (int k = 0; k < coco17::kNumKeypoints; ++k) out[k] = keypoints[Coco17Mirror(k)];
   return out;
 }
 

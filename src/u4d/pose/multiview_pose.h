@@ -11,7 +11,7 @@
 //     epipolar distance (pixels, on undistorted pixels, EpipolarDistance in
 //     both directions) over the keypoints confident in both. Detectors swap
 //     left and right, so the distance is also computed with the second
-//     detection mirrored (CocoMirror pairs exchanged) and the smaller is kept.
+//     detection mirrored (Coco17Mirror pairs exchanged) and the smaller is kept.
 //     Pairs sharing fewer than `min_shared_keypoints` keypoints get no affinity.
 //  2. Association. Candidate pairs with a distance below
 //     `max_epipolar_distance` are merged greedily, closest first, into

@@ -515,12 +515,6 @@ DegradedMask DegradeInstanceMask(const cv::Mat& gt_ids, const cv::Mat& parts,
 
 // ------------------------------------------------------------ keypoints
 
-int CocoMirror(int k) {
-  U4D_CHECK(k >= 0 && k < coco17::kNumKeypoints, "CocoMirror: keypoint {} out of range [0, 17)", k);
-  if (k == coco17::kNose) return k;
-  return (k % 2 == 1) ? k + 1 : k - 1;  // left ids are odd, right ids even
-}
-
 void KeypointDegradeOptions::Check() const {
   CheckNonNeg(noise_sigma_px, "KeypointDegradeOptions.noise_sigma_px");
   CheckProb(outlier_prob, "KeypointDegradeOptions.outlier_prob");
@@ -636,7 +630,7 @@ std::vector<DetectedPose2d> DegradeKeypoints(
       const double u_miss = rng.Uniform(), u_occ = rng.Uniform(), u_out = rng.Uniform();
       const double nx = rng.Normal(), ny = rng.Normal(), nc = rng.Normal();
       const double out_r = std::sqrt(rng.Uniform()), out_a = 2 * kPi * rng.Uniform();
-      const int label = swapped ? CocoMirror(k) : k;  // where this physical keypoint is reported
+      const int label = swapped ? Coco17Mirror(k) : k;  // where this physical keypoint is reported
       det.keypoints[label] = Eigen::Vector3d::Zero();
       if (!in_view[k] || u_miss < options.keypoint_miss_prob) continue;
       const cv::Point pixel(static_cast<int>(std::lround(projected[k].x())),

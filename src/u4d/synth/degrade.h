@@ -140,8 +140,6 @@ DegradedMask DegradeInstanceMask(const cv::Mat& gt_ids, const cv::Mat& parts,
 // ------------------------------------------------------------ keypoints --
 
 // COCO-17 keypoint order: coco17::Keypoint (io/poses.h).
-// The COCO index of the mirror keypoint (left <-> right; the nose maps to itself).
-int CocoMirror(int keypoint);
 
 struct KeypointDegradeOptions {
   // Gaussian pixel noise, standard deviation per coordinate.

@@ -445,7 +445,7 @@ TEST(DegradeKeypointsTest, NoiseMissAndSwapRates) {
       }
       ++detected;
       // Swapped: label k holds the mirror keypoint.
-      const int source = dets[0].swapped ? CocoMirror(k) : k;
+      const int source = dets[0].swapped ? Coco17Mirror(k) : k;
       const Eigen::Vector2d err = kp.head<2>() - cam.Project(person[source]);
       sum += err.x() + err.y();
       sum2 += err.squaredNorm();
@@ -570,9 +570,9 @@ TEST(DegradeKeypointsTest, RejectsBadInput) {
   Camera bad_cam = cam;
   bad_cam.K(0, 0) = -1;
   EXPECT_THROW(DegradeKeypoints({Person(0, 4)}, bad_cam, ids, o, 0), Error);
-  EXPECT_EQ(CocoMirror(coco17::kLeftAnkle), coco17::kRightAnkle);
-  EXPECT_EQ(CocoMirror(coco17::kRightEye), coco17::kLeftEye);
-  EXPECT_EQ(CocoMirror(coco17::kNose), coco17::kNose);
+  EXPECT_EQ(Coco17Mirror(coco17::kLeftAnkle), coco17::kRightAnkle);
+  EXPECT_EQ(Coco17Mirror(coco17::kRightEye), coco17::kLeftEye);
+  EXPECT_EQ(Coco17Mirror(coco17::kNose), coco17::kNose);
 }
 
 }  // namespace
