@@ -500,9 +500,10 @@ TEST(ImportMiddlebury, DinoSilhouettesInsideProjectedBox) {
       "[middlebury] hull of the other views on the view's silhouette: worst view %.3f; "
       "view turned by 2 deg: best %.3f\n",
       worst, best_wrong);
-  // Every view under the right calibration beats every view under a wrong one.
-  EXPECT_GT(worst, 0.9);
-  EXPECT_GT(worst, best_wrong + 0.05);
+  // Every view under the right calibration beats every view under a wrong
+  // one (measured 0.950 vs 0.841; no margin is asserted, since any margin
+  // would have been chosen after seeing these numbers).
+  EXPECT_GT(worst, best_wrong);
 }
 
 TEST(ImportMiddlebury, BadInput) {
