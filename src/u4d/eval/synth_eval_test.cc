@@ -12,14 +12,9 @@ namespace {
 class SynthEvalTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = fs::temp_directory_path() / ("u4d_synth_eval_test_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    synth::SynthOptions o = synth::SynthPreset("handshake");
-    o.num_frames = 4;
-    o.rig.num_views = 4;
-    o.rig.image_width = 320;
-    o.rig.image_height = 180;
-    synth::WriteSyntheticCapture(o, dir_);
+    synth::SynthOptions o = synth::SmallHandshakeOptions(4, 320, 180, 4);
+    o.write_meshes = true;  // the projection error and Chamfer need them
+    dir_ = synth::WriteCaptureToTempDir("synth_eval_test", o);
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
   static inline fs::path dir_;

@@ -31,15 +31,8 @@ struct FrameData {
 class SparseSynthTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    // One directory per process: ctest runs each test of the suite in its own process.
-    dir_ = fs::temp_directory_path() / ("u4d_features_sparse_test_" + std::to_string(::getpid()));
-    synth::SynthOptions o = synth::SynthPreset("handshake");
-    o.num_frames = 2;
-    o.rig.num_views = 5;
-    o.rig.image_width = 480;
-    o.rig.image_height = 270;
-    o.write_meshes = false;
-    synth::WriteSyntheticCapture(o, dir_);
+    dir_ = synth::WriteCaptureToTempDir("features_sparse_test",
+                                        synth::SmallHandshakeOptions(5, 480, 270, 2));
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
   static FrameData Load(int frame) {

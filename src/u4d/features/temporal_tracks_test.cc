@@ -20,15 +20,8 @@ namespace {
 class TemporalTracksTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = fs::temp_directory_path() / ("u4d_temporal_tracks_test_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    synth::SynthOptions o = synth::SynthPreset("handshake");
-    o.num_frames = 6;
-    o.rig.num_views = 3;
-    o.rig.image_width = 480;
-    o.rig.image_height = 270;
-    o.write_meshes = false;
-    synth::WriteSyntheticCapture(o, dir_);
+    dir_ = synth::WriteCaptureToTempDir("temporal_tracks_test",
+                                        synth::SmallHandshakeOptions(3, 480, 270, 6));
     capture_ = ReadCapture(dir_);
     for (int f = 0; f < capture_.num_frames; ++f) {
       poses_.push_back(ReadPoses3d(dir_ / layout::GtJoints3d(f)));

@@ -239,17 +239,10 @@ TEST(KeyframeRecurrenceTest, RecurringPoseIsSimilarDifferentPoseIsNot) {
 class KeyframeCaptureTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = fs::temp_directory_path() / ("u4d_keyframes_test_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    synth::SynthOptions o = synth::SynthPreset("handshake");
-    o.num_frames = 48;
+    synth::SynthOptions o = synth::SmallHandshakeOptions(2, 320, 180, 48);
     o.start_frame = 0;  // from the approach through the handshake
     o.fps = 8;          // the whole 6 s script (approach, handshake, stepping apart)
-    o.rig.num_views = 2;
-    o.rig.image_width = 320;
-    o.rig.image_height = 180;
-    o.write_meshes = false;
-    synth::WriteSyntheticCapture(o, dir_);
+    dir_ = synth::WriteCaptureToTempDir("keyframes_test", o);
     const Capture capture = ReadCapture(dir_);
     std::vector<std::vector<Pose3d>> poses;
     for (int f = 0; f < capture.num_frames; ++f)

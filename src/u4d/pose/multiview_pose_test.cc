@@ -108,15 +108,8 @@ TEST(MultiViewPose, BadInputThrows) {
 class SyntheticPoseTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = fs::temp_directory_path() / ("u4d_pose_test_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    synth::SynthOptions o = synth::SynthPreset("handshake");
-    o.num_frames = kFrames;
-    o.rig.num_views = 6;
-    o.rig.image_width = 320;
-    o.rig.image_height = 180;
-    o.write_meshes = false;
-    synth::WriteSyntheticCapture(o, dir_);
+    dir_ = synth::WriteCaptureToTempDir("pose_test",
+                                        synth::SmallHandshakeOptions(6, 320, 180, kFrames));
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
   static constexpr int kFrames = 10;

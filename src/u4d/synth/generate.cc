@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <mutex>
 
+#include <unistd.h>
+
 #include <open3d/geometry/TriangleMesh.h>
 #include <open3d/io/TriangleMeshIO.h>
 #include <tbb/parallel_for.h>
@@ -319,6 +321,26 @@ SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& 
   WriteCapture(capture, dir);
   summary.seconds = total_timer.Seconds();
   return summary;
+}
+
+SynthOptions SmallHandshakeOptions(int num_views, int width, int height, int num_frames) {
+  SynthOptions o = SynthPreset("handshake");
+  o.rig.num_views = num_views;
+  o.rig.image_width = width;
+  o.rig.image_height = height;
+  o.num_frames = num_frames;
+  o.write_meshes = false;
+  return o;
+}
+
+fs::path WriteCaptureToTempDir(const std::string& name, const SynthOptions& options,
+                               SynthSummary* summary) {
+  const fs::path dir =
+      fs::temp_directory_path() / fmt::format("u4d_{}_{}", name, static_cast<long>(::getpid()));
+  fs::remove_all(dir);
+  const SynthSummary s = WriteSyntheticCapture(options, dir);
+  if (summary != nullptr) *summary = s;
+  return dir;
 }
 
 }  // namespace u4d::synth

@@ -72,4 +72,14 @@ struct SynthSummary {
 SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& dir,
                                    bool progress = false);
 
+// For tests and benchmarks: the handshake preset at a small size, without
+// GT meshes (set write_meshes to get them).
+SynthOptions SmallHandshakeOptions(int num_views, int width, int height, int num_frames);
+
+// Writes `options` into a fresh directory <tmp>/u4d_<name>_<pid> (one per
+// process, since ctest runs the tests of a suite in separate processes, in
+// parallel) and returns it; `summary` receives the writer's summary if given.
+fs::path WriteCaptureToTempDir(const std::string& name, const SynthOptions& options,
+                               SynthSummary* summary = nullptr);
+
 }  // namespace u4d::synth

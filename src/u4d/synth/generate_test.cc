@@ -18,14 +18,9 @@ namespace {
 class GenerateTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = fs::temp_directory_path() / ("u4d_generate_test_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    SynthOptions o = SynthPreset("handshake");
-    o.num_frames = 3;
-    o.rig.num_views = 4;
-    o.rig.image_width = 240;
-    o.rig.image_height = 136;
-    summary_ = WriteSyntheticCapture(o, dir_);
+    SynthOptions o = SmallHandshakeOptions(4, 240, 136, 3);
+    o.write_meshes = true;
+    dir_ = WriteCaptureToTempDir("generate_test", o, &summary_);
   }
   static inline fs::path dir_;
   static inline SynthSummary summary_;
