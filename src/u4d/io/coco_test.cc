@@ -5,31 +5,16 @@
 #include <gtest/gtest.h>
 
 #include "u4d/util/check.h"
+#include "u4d/util/testing.h"
 
 namespace u4d {
 namespace {
 
 const fs::path kCocoJson = fs::path(U4D_SHARED_DATA_DIR) / "coco_people" / "test_coco.json";
 
-fs::path FreshDir(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() / ("u4d_coco_test_" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path FreshDir(const std::string& name) { return test_util::FreshTestDir("coco_test", name); }
 
-// Expects `f` to throw u4d::Error whose message contains every one of `parts`.
-template <typename F>
-void ExpectErrorMentions(F&& f, const std::vector<std::string>& parts) {
-  try {
-    f();
-    ADD_FAILURE() << "no u4d::Error thrown";
-  } catch (const Error& e) {
-    for (const std::string& p : parts)
-      EXPECT_NE(std::string(e.what()).find(p), std::string::npos)
-          << "message '" << e.what() << "' does not mention '" << p << "'";
-  }
-}
+using test_util::ExpectErrorMentions;
 
 double Perimeter(const std::vector<double>& xy) {
   double p = 0;

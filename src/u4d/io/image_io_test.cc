@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "u4d/util/check.h"
+#include "u4d/util/testing.h"
 
 namespace u4d {
 namespace {
@@ -16,12 +17,7 @@ fs::path TempDir() {
 }
 
 void ExpectErrorMentions(const std::function<void()>& f, const std::string& needle) {
-  try {
-    f();
-    FAIL() << "expected u4d::Error mentioning " << needle;
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
-  }
+  test_util::ExpectErrorMentions(f, {needle});
 }
 
 TEST(ImageIo, FloRoundTripAndRealSintel) {

@@ -7,31 +7,16 @@
 
 #include "u4d/io/import_fourda.h"
 #include "u4d/util/check.h"
+#include "u4d/util/testing.h"
 
 namespace u4d {
 namespace {
 
 const fs::path kData = U4D_SHARED_DATA_DIR;
 
-fs::path FreshDir(const std::string& name) {
-  fs::path dir =
-      fs::temp_directory_path() / ("u4d_poses_test_" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path FreshDir(const std::string& name) { return test_util::FreshTestDir("poses_test", name); }
 
-template <typename F>
-void ExpectErrorMentions(F&& f, const std::vector<std::string>& parts) {
-  try {
-    f();
-    ADD_FAILURE() << "no u4d::Error thrown";
-  } catch (const Error& e) {
-    for (const std::string& p : parts)
-      EXPECT_NE(std::string(e.what()).find(p), std::string::npos)
-          << "message '" << e.what() << "' does not mention '" << p << "'";
-  }
-}
+using test_util::ExpectErrorMentions;
 
 TEST(Poses, CocoKeypointsAgreeWithTheFileAndTheMasks) {
   const fs::path path = kData / "coco_people" / "test_coco.json";

@@ -1,0 +1,38 @@
+// Helpers shared by the GoogleTest suites. Include from *_test.cc only.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include "u4d/util/check.h"
+#include "u4d/util/file.h"
+
+namespace u4d::test_util {
+
+// An empty directory <tmp>/u4d_<suite>_<pid>/<name>: one per process, since
+// ctest runs the tests of a suite in separate processes, in parallel.
+inline fs::path FreshTestDir(const std::string& suite, const std::string& name) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("u4d_" + suite + "_" + std::to_string(::getpid())) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// Expects `f` to throw u4d::Error whose message contains every one of `parts`.
+template <typename F>
+void ExpectErrorMentions(F&& f, const std::vector<std::string>& parts) {
+  try {
+    f();
+    ADD_FAILURE() << "no u4d::Error thrown";
+  } catch (const Error& e) {
+    for (const std::string& p : parts)
+      EXPECT_NE(std::string(e.what()).find(p), std::string::npos)
+          << "message '" << e.what() << "' does not mention '" << p << "'";
+  }
+}
+
+}  // namespace u4d::test_util
