@@ -1,5 +1,6 @@
 #include "u4d/geometry/camera.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -89,6 +90,19 @@ Eigen::Vector3d Camera::Unproject(const Eigen::Vector2d& pixel, double depth) co
 
 Eigen::Matrix<double, 3, 4> Camera::ProjectionMatrix() const {
   return K * cam_from_world.ToMatrix();
+}
+
+Camera ScaledCamera(const Camera& camera, double scale) {
+  U4D_CHECK(std::isfinite(scale) && scale > 0, "ScaledCamera: scale must be positive, got {}",
+            scale);
+  Camera scaled = camera;
+  scaled.width = std::max(1, static_cast<int>(std::lround(camera.width * scale)));
+  scaled.height = std::max(1, static_cast<int>(std::lround(camera.height * scale)));
+  scaled.K.row(0) *= scale;
+  scaled.K.row(1) *= scale;
+  scaled.K(0, 2) = scale * (camera.K(0, 2) + 0.5) - 0.5;
+  scaled.K(1, 2) = scale * (camera.K(1, 2) + 0.5) - 0.5;
+  return scaled;
 }
 
 }  // namespace u4d

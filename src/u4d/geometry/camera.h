@@ -50,6 +50,11 @@ struct Camera {
   }
 };
 
+// The same camera for an image resized by `scale` (> 0): size rounded to the
+// nearest pixel, K scaled about the pixel-centre convention, i.e.
+// x' = scale * (x + 0.5) - 0.5. Distortion and pose are unchanged.
+Camera ScaledCamera(const Camera& camera, double scale);
+
 // Applies / removes OpenCV radial-tangential distortion on normalised coordinates.
 Eigen::Vector2d Distort(const std::array<double, 5>& dist, const Eigen::Vector2d& normalized);
 Eigen::Vector2d Undistort(const std::array<double, 5>& dist, const Eigen::Vector2d& distorted);

@@ -83,5 +83,23 @@ TEST(Geometry, TriangulationAndEpipolarAreExact) {
             1e-6);
 }
 
+TEST(Camera, ScaledCameraFollowsThePixelCentreConvention) {
+  Camera camera = MakeCamera(0.3, /*distorted=*/false);
+  camera.height = 360;
+  camera.K << 500, 0, 319.5, 0, 510, 179.5, 0, 0, 1;
+  const Camera half = ScaledCamera(camera, 0.5);
+  EXPECT_EQ(half.width, 320);
+  EXPECT_EQ(half.height, 180);
+  // The image centre stays the image centre.
+  EXPECT_NEAR(half.K(0, 2), 159.5, 1e-12);
+  EXPECT_NEAR(half.K(1, 2), 89.5, 1e-12);
+  const Eigen::Vector3d point(0.3, 0.4, 1.0);
+  const Eigen::Vector2d x = camera.Project(point);
+  const Eigen::Vector2d x_half = half.Project(point);
+  EXPECT_NEAR(x_half.x(), 0.5 * (x.x() + 0.5) - 0.5, 1e-9);
+  EXPECT_NEAR(x_half.y(), 0.5 * (x.y() + 0.5) - 0.5, 1e-9);
+  EXPECT_THROW(ScaledCamera(camera, 0.0), Error);
+}
+
 }  // namespace
 }  // namespace u4d

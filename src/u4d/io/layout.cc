@@ -43,4 +43,33 @@ fs::path GtMesh(int object_id, int frame) {
   return fs::path("gt/meshes") / fmt::format("{:02d}", object_id) / (FrameName(frame) + ".ply");
 }
 
+fs::path SceneIndex() { return "scene.json"; }
+fs::path SceneCalibration() { return "calibration.json"; }
+fs::path SceneParams() { return "params.json"; }
+fs::path SceneKeyframes() { return "keyframes.json"; }
+fs::path SceneEval() { return "eval.json"; }
+fs::path SceneInstances(const std::string& view, int frame) {
+  return fs::path("instances") / view / (FrameName(frame) + ".png");
+}
+fs::path SceneInstancesInfo(const std::string& view, int frame) {
+  return fs::path("instances") / view / (FrameName(frame) + ".json");
+}
+fs::path SceneDepth(const std::string& view, int frame) {
+  return fs::path("depth") / view / (FrameName(frame) + ".pfm");
+}
+fs::path SceneFlow(const std::string& view, int frame) {
+  return fs::path("flow") / view / (FrameName(frame) + ".flo");
+}
+fs::path ScenePicture(const std::string& kind, const std::string& view, int frame) {
+  return fs::path("pictures") / kind / view / (FrameName(frame) + ".png");
+}
+fs::path ScenePoses3d(int frame) { return fs::path("poses3d") / (FrameName(frame) + ".json"); }
+fs::path SceneTracks(const std::string& view) { return fs::path("tracks") / (view + ".json"); }
+fs::path SceneMesh(int object_id, int frame) {
+  return fs::path("meshes") / fmt::format("{:02d}", object_id) / (FrameName(frame) + ".ply");
+}
+fs::path SceneSegmentDir(int segment) {
+  return fs::path("segments") / fmt::format("{:02d}", segment);
+}
+
 }  // namespace u4d::layout

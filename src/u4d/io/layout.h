@@ -28,4 +28,24 @@ fs::path GtVisibility(const std::string& view, int frame);     // gt/visibility/
 fs::path GtJoints3d(int frame);                                // gt/joints3d/<frame>.json
 fs::path GtMesh(int object_id, int frame);                     // gt/meshes/<id>/<frame>.ply
 
+// The 4D scene written by `u4d run` (relative to its output root). Per-view
+// maps have the camera's size. Object ids are the instance ids of the
+// refined masks (>= 1, the same in every view and frame).
+fs::path SceneIndex();        // scene.json: frames, views, objects, files, stages done
+fs::path SceneCalibration();  // calibration.json (as in a capture)
+fs::path SceneParams();       // params.json: every option used
+fs::path SceneKeyframes();    // keyframes.json
+fs::path SceneEval();         // eval.json (only with ground truth)
+fs::path SceneInstances(const std::string& view, int frame);      // instances/<view>/<frame>.png
+fs::path SceneInstancesInfo(const std::string& view, int frame);  // instances/<view>/<frame>.json
+fs::path SceneDepth(const std::string& view,
+                    int frame);                          // depth/<view>/<frame>.pfm (z m, 0 = none)
+fs::path SceneFlow(const std::string& view, int frame);  // flow/<view>/<frame>.flo (t -> t+1)
+// PNG pictures for people: kind is "instances", "depth" or "flow".
+fs::path ScenePicture(const std::string& kind, const std::string& view, int frame);
+fs::path ScenePoses3d(int frame);               // poses3d/<frame>.json
+fs::path SceneTracks(const std::string& view);  // tracks/<view>.json
+fs::path SceneMesh(int object_id, int frame);   // meshes/<id>/<frame>.ply (colour, label)
+fs::path SceneSegmentDir(int segment);          // segments/<kk>/ (segment.json, <id>.glb)
+
 }  // namespace u4d::layout
