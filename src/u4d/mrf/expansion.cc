@@ -1,0 +1,283 @@
+#include "u4d/mrf/expansion.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "u4d/util/check.h"
+#include "u4d/util/timer.h"
+
+namespace u4d::mrf {
+
+void GridGraph::Check() const {
+  U4D_CHECK(width > 0 && height > 0, "GridGraph: width and height must be > 0, got {} x {}", width,
+            height);
+  U4D_CHECK(connectivity == 4 || connectivity == 8, "GridGraph.connectivity must be 4 or 8, got {}",
+            connectivity);
+  U4D_CHECK(active.empty() || active.size() == static_cast<size_t>(width) * height,
+            "GridGraph.active must be empty or have width*height = {} entries, got {}",
+            static_cast<size_t>(width) * height, active.size());
+}
+
+void ExpansionOptions::Check() const {
+  U4D_CHECK(max_sweeps >= 1, "ExpansionOptions.max_sweeps must be >= 1, got {}", max_sweeps);
+  U4D_CHECK(min_relative_decrease >= 0 && std::isfinite(min_relative_decrease),
+            "ExpansionOptions.min_relative_decrease must be finite and >= 0, got {}",
+            min_relative_decrease);
+  U4D_CHECK(algorithm == MaxFlowAlgorithm::kBoykovKolmogorov ||
+                algorithm == MaxFlowAlgorithm::kBoostBoykovKolmogorov,
+            "ExpansionOptions.algorithm: unknown value {}", static_cast<int>(algorithm));
+}
+
+namespace {
+
+struct Offset {
+  int dx, dy;
+};
+// Neighbours q > p of p (in increasing q), then all neighbours.
+constexpr Offset kForward8[] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
+constexpr Offset kAll8[] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}, {-1, 0}, {1, -1}, {0, -1}, {-1, -1}};
+constexpr Offset kAll4[] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+
+int NumForward(const GridGraph& g) { return g.connectivity == 8 ? 4 : 2; }
+const Offset* Forward(const GridGraph& g) { return g.connectivity == 8 ? kForward8 : kAll4; }
+int NumAll(const GridGraph& g) { return g.connectivity == 8 ? 8 : 4; }
+const Offset* All(const GridGraph& g) { return g.connectivity == 8 ? kAll8 : kAll4; }
+
+void CheckLabels(const GridGraph& grid, const std::vector<int>& labels, const char* what) {
+  U4D_CHECK(labels.size() == static_cast<size_t>(grid.NumPixels()),
+            "{}: expected width*height = {} labels, got {}", what, grid.NumPixels(), labels.size());
+  for (size_t p = 0; p < labels.size(); ++p) {
+    U4D_CHECK(labels[p] >= 0, "{}: label of pixel {} is negative ({})", what, p, labels[p]);
+  }
+}
+
+// Buffers reused across the moves of one AlphaExpansion.
+struct Workspace {
+  std::vector<int> node_of;      // pixel -> graph node, -1 = fixed
+  std::vector<int> node_pixel;   // graph node -> pixel
+  std::vector<double> unary;     // per node: E(x=1) - E(x=0) of its unary-like terms
+  std::vector<uint8_t> changed;  // per pixel, all 0 between moves
+  std::vector<int> changed_list;
+  FlowGraph graph;
+  MinCut cut;
+  MinCutSolver solver;
+};
+
+// One binary move: pixel p may switch from labels[p] to proposal(p).
+template <typename Proposal>
+MoveResult Move(const GridGraph& grid, const GridEnergy& energy, const Proposal& proposal,
+                std::vector<int>& labels, double energy_before, MaxFlowAlgorithm algorithm,
+                Workspace& ws) {
+  const int w = grid.width, h = grid.height, n = w * h;
+  MoveResult result;
+  result.energy_before = result.energy_after = energy_before;
+
+  // Nodes: active pixels whose label differs from the proposal.
+  ws.node_of.assign(n, -1);
+  ws.node_pixel.clear();
+  ws.unary.clear();
+  for (int p = 0; p < n; ++p) {
+    if (!grid.IsActive(p)) continue;
+    const int a = proposal(p);
+    if (a == labels[p]) continue;
+    ws.node_of[p] = static_cast<int>(ws.node_pixel.size());
+    ws.node_pixel.push_back(p);
+    ws.unary.push_back(energy.Unary(p, a) - energy.Unary(p, labels[p]));
+  }
+  const int num_nodes = static_cast<int>(ws.node_pixel.size());
+  if (num_nodes == 0) return result;
+  ws.graph.Reset(num_nodes);
+
+  // Pairwise terms touching a node.
+  const Offset* fwd = Forward(grid);
+  const int num_fwd = NumForward(grid);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const int p = y * w + x;
+      const int np = ws.node_of[p];
+      for (int k = 0; k < num_fwd; ++k) {
+        const int qx = x + fwd[k].dx, qy = y + fwd[k].dy;
+        if (qx < 0 || qx >= w || qy >= h) continue;
+        const int q = qy * w + qx;
+        const int nq = ws.node_of[q];
+        if (np < 0 && nq < 0) continue;
+        const int lp = labels[p], lq = labels[q];
+        if (np >= 0 && nq >= 0) {
+          const int ap = proposal(p), aq = proposal(q);
+          const double e00 = energy.Pairwise(p, q, lp, lq);
+          double e01 = energy.Pairwise(p, q, lp, aq);
+          double e10 = energy.Pairwise(p, q, ap, lq);
+          const double e11 = energy.Pairwise(p, q, ap, aq);
+          const double excess = e00 + e11 - e01 - e10;
+          if (excess > 0) {  // not submodular: raise E01, E10 (upper bound, exact at x = 0)
+            e01 += 0.5 * excess;
+            e10 += 0.5 * excess;
+            ++result.nonsubmodular_terms;
+          }
+          // E = e00 + (e10 - e00) x_p + (e11 - e10) x_q + (e01 + e10 - e00 - e11)(1 - x_p) x_q.
+          ws.unary[np] += e10 - e00;
+          ws.unary[nq] += e11 - e10;
+          const double cap = e01 + e10 - e00 - e11;
+          if (cap > 0) ws.graph.edges.push_back({np, nq, cap, 0.0});
+        } else if (np >= 0) {
+          ws.unary[np] += energy.Pairwise(p, q, proposal(p), lq) - energy.Pairwise(p, q, lp, lq);
+        } else {
+          ws.unary[nq] += energy.Pairwise(p, q, lp, proposal(q)) - energy.Pairwise(p, q, lp, lq);
+        }
+      }
+    }
+  }
+  // x = 1 (sink side) costs source_cap; x = 0 costs sink_cap.
+  for (int i = 0; i < num_nodes; ++i) {
+    const double d = ws.unary[i];
+    if (d > 0) {
+      ws.graph.source_cap[i] = d;
+    } else {
+      ws.graph.sink_cap[i] = -d;
+    }
+  }
+  ws.solver.Solve(ws.graph, algorithm, &ws.cut);
+
+  // True energy change of the cut's labelling.
+  ws.changed.resize(n, 0);
+  ws.changed_list.clear();
+  for (int i = 0; i < num_nodes; ++i) {
+    if (ws.cut.sink_side[i]) {
+      ws.changed[ws.node_pixel[i]] = 1;
+      ws.changed_list.push_back(ws.node_pixel[i]);
+    }
+  }
+  if (ws.changed_list.empty()) return result;
+  auto new_label = [&](int q) { return ws.changed[q] ? proposal(q) : labels[q]; };
+  const Offset* all = All(grid);
+  const int num_all = NumAll(grid);
+  double delta = 0;
+  for (const int p : ws.changed_list) {
+    const int lp = labels[p], ap = proposal(p);
+    delta += energy.Unary(p, ap) - energy.Unary(p, lp);
+    const int x = p % w, y = p / w;
+    for (int k = 0; k < num_all; ++k) {
+      const int qx = x + all[k].dx, qy = y + all[k].dy;
+      if (qx < 0 || qx >= w || qy < 0 || qy >= h) continue;
+      const int q = qy * w + qx;
+      if (ws.changed[q] && q < p) continue;  // counted from q
+      const int lq = labels[q], aq = new_label(q);
+      delta += q > p ? energy.Pairwise(p, q, ap, aq) - energy.Pairwise(p, q, lp, lq)
+                     : energy.Pairwise(q, p, aq, ap) - energy.Pairwise(q, p, lq, lp);
+    }
+  }
+  if (delta < 0) {
+    for (const int p : ws.changed_list) labels[p] = proposal(p);
+    result.accepted = true;
+    result.changed_pixels = static_cast<int>(ws.changed_list.size());
+    result.energy_after = energy_before + delta;
+  }
+  for (const int p : ws.changed_list) ws.changed[p] = 0;
+  return result;
+}
+
+}  // namespace
+
+std::vector<std::pair<int, int>> NeighbourPairs(const GridGraph& grid) {
+  grid.Check();
+  std::vector<std::pair<int, int>> pairs;
+  const int w = grid.width, h = grid.height;
+  pairs.reserve(static_cast<size_t>(w) * h * NumForward(grid));
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      for (int k = 0; k < NumForward(grid); ++k) {
+        const int qx = x + Forward(grid)[k].dx, qy = y + Forward(grid)[k].dy;
+        if (qx < 0 || qx >= w || qy >= h) continue;
+        pairs.emplace_back(y * w + x, qy * w + qx);
+      }
+    }
+  }
+  return pairs;
+}
+
+double Energy(const GridGraph& grid, const GridEnergy& energy, const std::vector<int>& labels) {
+  grid.Check();
+  CheckLabels(grid, labels, "Energy");
+  const int w = grid.width, h = grid.height;
+  const Offset* fwd = Forward(grid);
+  double e = 0;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const int p = y * w + x;
+      e += energy.Unary(p, labels[p]);
+      for (int k = 0; k < NumForward(grid); ++k) {
+        const int qx = x + fwd[k].dx, qy = y + fwd[k].dy;
+        if (qx < 0 || qx >= w || qy >= h) continue;
+        const int q = qy * w + qx;
+        e += energy.Pairwise(p, q, labels[p], labels[q]);
+      }
+    }
+  }
+  return e;
+}
+
+MoveResult ExpansionMove(const GridGraph& grid, const GridEnergy& energy, int alpha,
+                         std::vector<int>* labels, MaxFlowAlgorithm algorithm) {
+  U4D_CHECK(labels != nullptr, "ExpansionMove: labels is null");
+  U4D_CHECK(alpha >= 0, "ExpansionMove: alpha must be >= 0, got {}", alpha);
+  const double e = Energy(grid, energy, *labels);  // checks grid and labels
+  Workspace ws;
+  MoveResult r = Move(
+      grid, energy, [alpha](int) { return alpha; }, *labels, e, algorithm, ws);
+  // Re-sum: energy_before + delta loses precision when kInfiniteCost terms are involved.
+  if (r.accepted) r.energy_after = Energy(grid, energy, *labels);
+  return r;
+}
+
+MoveResult FusionMove(const GridGraph& grid, const GridEnergy& energy,
+                      const std::vector<int>& proposal, std::vector<int>* labels,
+                      MaxFlowAlgorithm algorithm) {
+  U4D_CHECK(labels != nullptr, "FusionMove: labels is null");
+  const double e = Energy(grid, energy, *labels);
+  CheckLabels(grid, proposal, "FusionMove proposal");
+  Workspace ws;
+  MoveResult r = Move(
+      grid, energy, [&proposal](int p) { return proposal[p]; }, *labels, e, algorithm, ws);
+  if (r.accepted) r.energy_after = Energy(grid, energy, *labels);  // re-sum, as above
+  return r;
+}
+
+ExpansionSummary AlphaExpansion(const GridGraph& grid, const GridEnergy& energy,
+                                const std::vector<int>& candidate_labels, std::vector<int>* labels,
+                                const ExpansionOptions& options) {
+  options.Check();
+  U4D_CHECK(labels != nullptr, "AlphaExpansion: labels is null");
+  for (const int alpha : candidate_labels) {
+    U4D_CHECK(alpha >= 0, "AlphaExpansion: candidate label {} is negative", alpha);
+  }
+  Timer timer;
+  ExpansionSummary summary;
+  double e = Energy(grid, energy, *labels);  // checks grid and labels
+  summary.initial_energy = summary.final_energy = e;
+  if (candidate_labels.empty()) return summary;
+  Workspace ws;
+  for (int sweep = 0; sweep < options.max_sweeps; ++sweep) {
+    const double e_start = e;
+    int accepted = 0;
+    for (const int alpha : candidate_labels) {
+      const MoveResult r = Move(
+          grid, energy, [alpha](int) { return alpha; }, *labels, e, options.algorithm, ws);
+      ++summary.moves;
+      if (r.accepted) {
+        ++accepted;
+        e = r.energy_after;
+      }
+    }
+    e = Energy(grid, energy, *labels);  // re-sum, so rounding does not drift
+    summary.sweeps = sweep + 1;
+    summary.accepted_moves += accepted;
+    summary.energy_after_sweep.push_back(e);
+    if (accepted == 0) break;
+    if (e_start - e < options.min_relative_decrease * std::abs(e_start)) break;
+  }
+  summary.final_energy = e;
+  summary.seconds = timer.Seconds();
+  return summary;
+}
+
+}  // namespace u4d::mrf
