@@ -48,24 +48,6 @@ std::string ToString(DepthSource source) {
 
 namespace {
 
-// H36M-17 bones (parent, child).
-constexpr std::array<std::pair<int, int>, 16> kBones = {{{0, 1},
-                                                         {1, 2},
-                                                         {2, 3},
-                                                         {0, 4},
-                                                         {4, 5},
-                                                         {5, 6},
-                                                         {0, 7},
-                                                         {7, 8},
-                                                         {8, 9},
-                                                         {9, 10},
-                                                         {8, 11},
-                                                         {11, 12},
-                                                         {12, 13},
-                                                         {8, 14},
-                                                         {14, 15},
-                                                         {15, 16}}};
-
 bool JointValid(const Pose3d& pose, int j, const ObjectRegionOptions& options) {
   const Eigen::Vector4d& q = pose.joints[j];
   return q.allFinite() && q[3] >= options.min_joint_confidence && q[3] > 0;
@@ -166,7 +148,7 @@ std::vector<std::vector<ObjectRegion>> InitialObjectRegions(const std::vector<Ca
       const Camera& cam = cameras[v];
       ObjectRegion& r = regions[o - 1][v];
       cv::Mat added = cv::Mat::zeros(r.mask.size(), CV_8U);
-      for (const auto& [a, b] : kBones) {
+      for (const auto& [a, b] : H36m17Bones()) {
         if (!JointValid(*pose, a, options) || !JointValid(*pose, b, options)) continue;
         const Eigen::Vector3d pa = pose->joints[a].head<3>(), pb = pose->joints[b].head<3>();
         const Eigen::Vector2d xa = cam.Project(pa), xb = cam.Project(pb);

@@ -41,7 +41,9 @@ fs::path SceneInstancesInfo(const std::string& view, int frame);  // instances/<
 fs::path SceneDepth(const std::string& view,
                     int frame);                          // depth/<view>/<frame>.pfm (z m, 0 = none)
 fs::path SceneFlow(const std::string& view, int frame);  // flow/<view>/<frame>.flo (t -> t+1)
-// PNG pictures for people: kind is "instances", "depth" or "flow".
+// PNG pictures for people (io/visualize.h), read by the web viewer: kind is
+// "image" (a copy of the input frame, downscaled for the viewer), "instances",
+// "depth" or "flow"; pictures may be smaller than the camera.
 fs::path ScenePicture(const std::string& kind, const std::string& view, int frame);
 fs::path ScenePoses3d(int frame);               // poses3d/<frame>.json
 fs::path SceneTracks(const std::string& view);  // tracks/<view>.json

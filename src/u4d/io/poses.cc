@@ -123,6 +123,13 @@ const std::array<std::string, 17>& Coco17Names() {
   return kNames;
 }
 
+const std::vector<std::pair<int, int>>& H36m17Bones() {
+  static const std::vector<std::pair<int, int>> bones = {
+      {0, 1}, {1, 2},  {2, 3},  {0, 4},   {4, 5},   {5, 6},  {0, 7},   {7, 8},
+      {8, 9}, {9, 10}, {8, 11}, {11, 12}, {12, 13}, {8, 14}, {14, 15}, {15, 16}};
+  return bones;
+}
+
 const std::array<std::string, 17>& H36m17Names() {
   static const std::array<std::string, 17> kNames = {
       "pelvis",     "right_hip",  "right_knee",     "right_ankle", "left_hip",   "left_knee",

@@ -20,6 +20,7 @@
 
 #include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -86,6 +87,8 @@ const std::array<std::string, 17>& Coco17Names();
 // itself). Throws when `keypoint` is not in [0, 17).
 int Coco17Mirror(int keypoint);
 const std::array<std::string, 17>& H36m17Names();
+// The 16 bones of the H36M-17 skeleton as (parent, child) joint indices.
+const std::vector<std::pair<int, int>>& H36m17Bones();
 
 using Keypoints2d = std::array<Eigen::Vector3d, 17>;   // x, y (pixels), confidence
 using Joints3dConf = std::array<Eigen::Vector4d, 17>;  // x, y, z (metres), confidence
