@@ -21,6 +21,11 @@ void MatchingOptions::Check() const {
             "MatchingOptions.max_epipolar_px must be > 0, got {}", max_epipolar_px);
   U4D_CHECK(std::isfinite(max_descriptor_distance) && max_descriptor_distance > 0,
             "MatchingOptions.max_descriptor_distance must be > 0, got {}", max_descriptor_distance);
+  U4D_CHECK(
+      std::isfinite(max_pair_angle_deg) && max_pair_angle_deg > 0 && max_pair_angle_deg <= 180,
+      "MatchingOptions.max_pair_angle_deg must be in (0, 180], got {}", max_pair_angle_deg);
+  U4D_CHECK(neighbour_views >= 0, "MatchingOptions.neighbour_views must be >= 0, got {}",
+            neighbour_views);
   U4D_CHECK(min_track_views >= 2, "MatchingOptions.min_track_views must be >= 2, got {}",
             min_track_views);
 }
@@ -184,6 +189,41 @@ std::vector<Track> LinkTracks(const std::vector<PairMatches>& pairs,
   return tracks;
 }
 
+double OpticalAxisAngleDeg(const Camera& a, const Camera& b) {
+  // The optical axis in world coordinates is the third row of world-from-cam^T.
+  const Eigen::Vector3d za = a.cam_from_world.rotation.row(2).transpose();
+  const Eigen::Vector3d zb = b.cam_from_world.rotation.row(2).transpose();
+  return std::atan2(za.cross(zb).norm(), za.dot(zb)) * 180.0 / M_PI;
+}
+
+std::vector<std::pair<int, int>> SelectViewPairs(const std::vector<Camera>& cameras,
+                                                 const MatchingOptions& options) {
+  options.Check();
+  const int n = static_cast<int>(cameras.size());
+  std::vector<std::vector<char>> use(n, std::vector<char>(n, options.neighbour_views == 0));
+  if (options.neighbour_views > 0) {
+    for (int a = 0; a < n; ++a) {
+      std::vector<std::pair<double, int>> by_angle;
+      for (int b = 0; b < n; ++b) {
+        if (b != a) by_angle.emplace_back(OpticalAxisAngleDeg(cameras[a], cameras[b]), b);
+      }
+      std::sort(by_angle.begin(), by_angle.end());
+      for (int k = 0; k < std::min<int>(options.neighbour_views, by_angle.size()); ++k) {
+        use[a][by_angle[k].second] = use[by_angle[k].second][a] = 1;
+      }
+    }
+  }
+  std::vector<std::pair<int, int>> pairs;
+  for (int a = 0; a < n; ++a) {
+    for (int b = a + 1; b < n; ++b) {
+      if (use[a][b] && OpticalAxisAngleDeg(cameras[a], cameras[b]) <= options.max_pair_angle_deg) {
+        pairs.emplace_back(a, b);
+      }
+    }
+  }
+  return pairs;
+}
+
 std::vector<Track> MatchAllViews(const std::vector<Camera>& cameras,
                                  const std::vector<ViewKeypoints>& keypoints,
                                  const MatchingOptions& options) {
@@ -192,12 +232,10 @@ std::vector<Track> MatchAllViews(const std::vector<Camera>& cameras,
             cameras.size(), keypoints.size());
   const int n = static_cast<int>(cameras.size());
   std::vector<PairMatches> pairs;
-  for (int a = 0; a < n; ++a) {
-    for (int b = a + 1; b < n; ++b) {
-      pairs.emplace_back();
-      pairs.back().view_a = a;
-      pairs.back().view_b = b;
-    }
+  for (const auto& [a, b] : SelectViewPairs(cameras, options)) {
+    pairs.emplace_back();
+    pairs.back().view_a = a;
+    pairs.back().view_b = b;
   }
   tbb::parallel_for(size_t{0}, pairs.size(), [&](size_t i) {
     const int a = pairs[i].view_a, b = pairs[i].view_b;

@@ -1,5 +1,6 @@
 // Sparse reconstruction and initial object regions against the ground truth
-// of a synthetic handshake capture (5 views, 480x270, 2 frames).
+// of synthetic handshake captures (5 views at 480x270, and the preset's 8
+// views at 960x540 for the accuracy test; 2 frames each).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -88,15 +89,28 @@ std::map<int, int> ObjectToGt(const std::vector<SparsePoint>& points, const Fram
   return out;
 }
 
-// DISABLED: on the handshake preset SIFT finds too few correct cross-view
-// matches on the rendered people (measured at 480x270: 10-13 points, 30 %
-// within 2 cm, 1 object found instead of 2; at 960x540: 21-29 points, 72 %
-// within 2 cm, right instance 0.90); see docs/sparse.md. Kept so the bounds
-// are ready once the matching (or the synthetic textures) improve.
-TEST_F(SparseSynthTest, DISABLED_PointsAreAccurateAndOnTheRightInstance) {
+// The accuracy test runs on the preset's own rig: 8 views on a ring (45
+// degrees apart) at 960x540. On the 5-view 480x270 capture above the people
+// are ~60 px wide and neighbouring views are 72 degrees apart, beyond what
+// SIFT matches reliably (measured: 10-13 points per frame, 30 % within 2 cm).
+class SparseAccuracyTest : public SparseSynthTest {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = synth::WriteCaptureToTempDir("features_sparse_accuracy_test",
+                                        synth::SmallHandshakeOptions(8, 960, 540, 2));
+  }
+};
+
+TEST_F(SparseAccuracyTest, PointsAreAccurateAndOnTheRightInstance) {
+  SparseFrameOptions options;
+  // The synthetic calibration is exact: the epipolar gate only has to admit
+  // the keypoint localisation noise (~0.3 px), 1 px is 3 sigma. (The default
+  // 2 px leaves room for real calibration error.) Measured with 2 px: 79-95
+  // points, 82-86 % within 2 cm, 90-96 % on the right instance.
+  options.matching.max_epipolar_px = 1.0;
   for (int frame = 0; frame < 2; ++frame) {
     const FrameData d = Load(frame);
-    const SparseFrame sf = ReconstructSparseFrame(d.cameras, d.images, d.masks);
+    const SparseFrame sf = ReconstructSparseFrame(d.cameras, d.images, d.masks, options);
     const auto& pts = sf.points;
     double sq = 0;
     int n_obs = 0, within_2cm = 0, with_depth = 0, right = 0;
@@ -115,6 +129,7 @@ TEST_F(SparseSynthTest, DISABLED_PointsAreAccurateAndOnTheRightInstance) {
       ++with_depth;
       if (errors[errors.size() / 2] < 0.02) ++within_2cm;
     }
+    ASSERT_GT(pts.size(), 0u);
     const std::map<int, int> to_gt = ObjectToGt(pts, d);
     for (const SparsePoint& p : pts) right += to_gt.at(p.instance) == GtInstanceOf(p, d);
     const double rmse = std::sqrt(sq / n_obs);
@@ -125,15 +140,21 @@ TEST_F(SparseSynthTest, DISABLED_PointsAreAccurateAndOnTheRightInstance) {
         "%.3f, objects %d\n",
         frame, pts.size(), sf.tracks.size(), rmse, share_2cm, share_right,
         sf.association.num_objects);
+    // Enough points for a sparse depth range per person and view
+    // (ObjectRegionOptions::min_points = 10 for each of the 2 people, seen in
+    // several views). Measured: 77-85.
+    EXPECT_GE(pts.size(), 40u);
     // SIFT localises to ~0.3 px on sharp renders; observations beyond 2 px are
     // cut, so an RMSE near 1 px would mean a systematic (calibration) error.
     EXPECT_LT(rmse, 0.8);
-    // At ~4 m, 480 px wide views (f ~ 450 px) and 0.5 px noise, the depth error
-    // of a wide-baseline point is ~1 cm; mismatches and points on depth edges
-    // (the nearest GT pixel belongs to the other surface) make up the rest.
+    // At ~5 m, 960 px wide views (f ~ 900 px), 45 degree baselines and 0.3 px
+    // noise, the depth error of a point is a few mm; mismatches and points on
+    // depth edges (the nearest GT pixel belongs to the other surface) make up
+    // the rest. Measured: 0.90-0.91.
     EXPECT_GT(share_2cm, 0.8);
     // The target: >= 90 % of points on the right instance despite the
-    // degraded masks (noisy boundaries, merges, dropped views).
+    // degraded masks (noisy boundaries, merges, dropped views). Measured:
+    // 0.965-0.974.
     EXPECT_GE(share_right, 0.9);
     // The two people and no more than two spurious (false-positive) objects.
     EXPECT_GE(sf.association.num_objects, 2);
@@ -250,6 +271,12 @@ TEST(SparsePoints, BadInputThrows) {
   EXPECT_THROW(bad.Check(), Error);
   MatchingOptions bad_match;
   bad_match.ratio = 1.5;
+  EXPECT_THROW(bad_match.Check(), Error);
+  bad_match = {};
+  bad_match.neighbour_views = -1;
+  EXPECT_THROW(bad_match.Check(), Error);
+  bad_match = {};
+  bad_match.max_pair_angle_deg = 0;
   EXPECT_THROW(bad_match.Check(), Error);
   EXPECT_THROW(DetectKeypoints(cv::Mat(), cv::Mat()), Error);
   EXPECT_THROW(DetectKeypoints(cv::Mat::zeros(10, 10, CV_8U), cv::Mat::zeros(5, 5, CV_8U)), Error);
