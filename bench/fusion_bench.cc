@@ -1,0 +1,113 @@
+// Timing of the fusion module (docs/fusion.md): FuseObject per object per
+// frame at 8 views x 480x270 and 8 x 960x540, TrackVertices per step, and
+// the vertex drift of a tracked 10-frame segment against the GT meshes.
+// A plain executable that prints; run from a Release build:
+//   build/bench/fusion_bench
+#include <algorithm>
+#include <cstdio>
+
+#include <open3d/geometry/KDTreeFlann.h>
+#include <open3d/geometry/PointCloud.h>
+#include <open3d/geometry/TriangleMesh.h>
+
+#include "u4d/eval/mesh_metrics.h"
+#include "u4d/fusion/depth_fusion.h"
+#include "u4d/fusion/scene_flow.h"
+#include "u4d/io/capture.h"
+#include "u4d/io/image_io.h"
+#include "u4d/io/layout.h"
+#include "u4d/synth/generate.h"
+#include "u4d/util/timer.h"
+
+using namespace u4d;
+
+namespace {
+
+struct Maps {
+  std::vector<Camera> cameras;
+  std::vector<cv::Mat> depths, ids, images, flows;
+};
+
+Maps Read(const Capture& c, int f) {
+  Maps m;
+  for (int v = 0; v < c.NumViews(); ++v) {
+    const std::string& n = c.views[v].name;
+    m.cameras.push_back(c.views[v].CameraAt(f));
+    m.depths.push_back(ReadPfm(c.root / layout::GtDepth(n, f)));
+    m.ids.push_back(ReadLabelImage(c.root / layout::GtInstances(n, f)));
+    m.images.push_back(ReadColorImage(c.ImagePath(v, f)));
+    if (f + 1 < c.num_frames) m.flows.push_back(ReadFlo(c.root / layout::GtFlow(n, f)));
+  }
+  return m;
+}
+
+std::vector<SceneFlowView> Step(const Maps& a, const Maps& b) {
+  std::vector<SceneFlowView> out;
+  for (size_t v = 0; v < a.cameras.size(); ++v)
+    out.push_back(
+        {a.cameras[v], b.cameras[v], a.depths[v], b.depths[v], a.flows[v], a.ids[v], b.ids[v]});
+  return out;
+}
+
+double Median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+int main() {
+  for (const auto& [w, h, frames] : {std::tuple{480, 270, 11}, std::tuple{960, 540, 2}}) {
+    synth::SynthOptions o = synth::SmallHandshakeOptions(8, w, h, frames);
+    o.write_meshes = true;
+    o.start_frame = 10;  // walking: centimetres of motion per frame
+    const fs::path dir = synth::WriteCaptureToTempDir("fusion_bench", o);
+    const Capture c = ReadCapture(dir);
+    std::vector<Maps> maps;
+    for (int f = 0; f < frames; ++f) maps.push_back(Read(c, f));
+    for (int id = 1; id <= 2; ++id) {
+      Timer t;
+      const FusedMesh fm = FuseObject(maps[0].cameras, maps[0].depths, maps[0].ids, maps[0].images,
+                                      id, FusionOptions{});
+      const double fuse_s = t.Seconds();
+      const auto gt = eval::ReadMesh(dir / layout::GtMesh(id, 0));
+      const eval::ChamferResult r = eval::MeshChamfer(*fm.mesh, gt, {});
+      std::printf(
+          "8x%dx%d person %d: FuseObject %.2f s (%d points, %zu vertices), chamfer %.1f mm "
+          "(fused->gt %.1f, gt->fused %.1f)\n",
+          w, h, id, fuse_s, fm.num_points_used, fm.mesh->vertices_.size(), r.chamfer * 1e3,
+          r.pred_to_gt * 1e3, r.gt_to_pred * 1e3);
+      if (frames < 3) continue;  // tracking only on the 10-frame segment
+      // Track over the segment; drift against the matched GT vertices.
+      open3d::geometry::PointCloud gt0;
+      gt0.points_ = gt.vertices_;
+      open3d::geometry::KDTreeFlann tree(gt0);
+      const auto& verts = fm.mesh->vertices_;
+      std::vector<int> match(verts.size()), idx(1);
+      std::vector<double> d2(1);
+      for (size_t i = 0; i < verts.size(); ++i) {
+        tree.SearchKNN(verts[i], 1, idx, d2);
+        match[i] = idx[0];
+      }
+      Timer tt;
+      const AnimatedMesh seg = TrackSegment(
+          *fm.mesh, id, 0, frames - 1, [&](int k) { return Step(maps[k], maps[k + 1]); },
+          TrackOptions{});
+      const double track_s = tt.Seconds() / (frames - 1);
+      std::printf("  TrackVertices %.3f s per step (%d vertices, 8 views); median drift (mm):",
+                  track_s, seg.NumVertices());
+      for (int k = 1; k < frames; ++k) {
+        const auto gk = eval::ReadMesh(dir / layout::GtMesh(id, k));
+        std::vector<double> drift;
+        for (size_t i = 0; i < verts.size(); ++i)
+          drift.push_back(
+              (seg.positions[k][i] - (gk.vertices_[match[i]] + verts[i] - gt.vertices_[match[i]]))
+                  .norm());
+        std::printf(" %.1f", Median(drift) * 1e3);
+      }
+      std::printf("\n");
+    }
+    fs::remove_all(dir);
+  }
+  return 0;
+}

@@ -1,0 +1,43 @@
+// The synthetic handshake shared by the fusion tests: 8 views at 320x180,
+// 3 frames from script frame 10 (0.4 s: the people are walking towards each
+// other, so consecutive frames differ by centimetres), with GT meshes. Include from *_test.cc only.
+#pragma once
+
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "u4d/io/capture.h"
+#include "u4d/io/image_io.h"
+#include "u4d/io/layout.h"
+#include "u4d/synth/generate.h"
+
+namespace u4d::fusion_test {
+
+struct FrameMaps {
+  std::vector<Camera> cameras;
+  std::vector<cv::Mat> depths, ids, images, flows;
+};
+
+inline fs::path WriteSmallCapture(const std::string& name) {
+  synth::SynthOptions o = synth::SmallHandshakeOptions(8, 320, 180, 3);
+  o.write_meshes = true;
+  o.start_frame = 10;
+  return synth::WriteCaptureToTempDir(name, o);
+}
+
+// GT maps of `frame` (flow only when frame + 1 exists).
+inline FrameMaps ReadGtFrame(const Capture& c, int frame) {
+  FrameMaps m;
+  for (int v = 0; v < c.NumViews(); ++v) {
+    const std::string& name = c.views[v].name;
+    m.cameras.push_back(c.views[v].CameraAt(frame));
+    m.depths.push_back(ReadPfm(c.root / layout::GtDepth(name, frame)));
+    m.ids.push_back(ReadLabelImage(c.root / layout::GtInstances(name, frame)));
+    m.images.push_back(ReadColorImage(c.ImagePath(v, frame)));
+    if (frame + 1 < c.num_frames) m.flows.push_back(ReadFlo(c.root / layout::GtFlow(name, frame)));
+  }
+  return m;
+}
+
+}  // namespace u4d::fusion_test

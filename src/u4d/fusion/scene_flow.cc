@@ -1,0 +1,224 @@
+#include "u4d/fusion/scene_flow.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <limits>
+
+#include <open3d/geometry/TriangleMesh.h>
+
+#include "u4d/fusion/depth_sampling.h"
+#include "u4d/util/check.h"
+
+namespace u4d {
+
+using fusion_internal::CheckMap;
+using fusion_internal::SampleId;
+using fusion_internal::SampleObjectDepth;
+
+void TrackOptions::Check() const {
+  U4D_CHECK(visibility_tolerance > 0, "TrackOptions.visibility_tolerance must be > 0, found {}",
+            visibility_tolerance);
+  U4D_CHECK(max_depth_jump > 0, "TrackOptions.max_depth_jump must be > 0, found {}",
+            max_depth_jump);
+  U4D_CHECK(consistency_tolerance > 0, "TrackOptions.consistency_tolerance must be > 0, found {}",
+            consistency_tolerance);
+  U4D_CHECK(diffusion_iterations >= 0, "TrackOptions.diffusion_iterations must be >= 0, found {}",
+            diffusion_iterations);
+}
+
+namespace {
+
+void CheckView(const SceneFlowView& v, int i) {
+  const std::string ctx = fmt::format("TrackVertices: view {}", i);
+  v.camera_t.Check(ctx + " camera_t");
+  v.camera_t1.Check(ctx + " camera_t1");
+  const int w = v.camera_t.width, h = v.camera_t.height;
+  CheckMap(v.depth_t, CV_32FC1, w, h, ctx + " depth_t");
+  CheckMap(v.flow, CV_32FC2, w, h, ctx + " flow");
+  if (!v.instances_t.empty()) CheckMap(v.instances_t, CV_16UC1, w, h, ctx + " instances_t");
+  CheckMap(v.depth_t1, CV_32FC1, v.camera_t1.width, v.camera_t1.height, ctx + " depth_t1");
+  if (!v.instances_t1.empty())
+    CheckMap(v.instances_t1, CV_16UC1, v.camera_t1.width, v.camera_t1.height,
+             ctx + " instances_t1");
+}
+
+// Flow at p: bilinear when the four neighbours are the object's, else nearest.
+Eigen::Vector2d SampleFlow(const cv::Mat& flow, const cv::Mat& ids, int object_id,
+                           const Eigen::Vector2d& p) {
+  const int x0 = static_cast<int>(std::floor(p.x())), y0 = static_cast<int>(std::floor(p.y()));
+  auto ok = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < flow.cols && y < flow.rows &&
+           (ids.empty() || ids.at<uint16_t>(y, x) == object_id);
+  };
+  auto f = [&](int x, int y) {
+    const cv::Vec2f v = flow.at<cv::Vec2f>(y, x);
+    return Eigen::Vector2d(v[0], v[1]);
+  };
+  if (ok(x0, y0) && ok(x0 + 1, y0) && ok(x0, y0 + 1) && ok(x0 + 1, y0 + 1)) {
+    const double ax = p.x() - x0, ay = p.y() - y0;
+    return (1 - ay) * ((1 - ax) * f(x0, y0) + ax * f(x0 + 1, y0)) +
+           ay * ((1 - ax) * f(x0, y0 + 1) + ax * f(x0 + 1, y0 + 1));
+  }
+  const int xn = std::clamp(static_cast<int>(std::lround(p.x())), 0, flow.cols - 1);
+  const int yn = std::clamp(static_cast<int>(std::lround(p.y())), 0, flow.rows - 1);
+  return f(xn, yn);
+}
+
+// Most consistent candidate, averaged with the candidates that agree with it.
+Eigen::Vector3d Consensus(const std::vector<Eigen::Vector3d>& c, double tol) {
+  int best = -1, best_n = -1;
+  double best_spread = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < c.size(); ++i) {
+    int n = 0;
+    double spread = 0;
+    for (size_t j = 0; j < c.size(); ++j) {
+      const double d = (c[i] - c[j]).norm();
+      if (d <= tol) {
+        ++n;
+        spread += d;
+      }
+    }
+    if (n > best_n || (n == best_n && spread < best_spread)) {
+      best = static_cast<int>(i);
+      best_n = n;
+      best_spread = spread;
+    }
+  }
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  int n = 0;
+  for (const Eigen::Vector3d& x : c)
+    if ((x - c[best]).norm() <= tol) {
+      sum += x;
+      ++n;
+    }
+  return sum / n;
+}
+
+}  // namespace
+
+TrackResult TrackVertices(const std::vector<Eigen::Vector3d>& vertices,
+                          const std::vector<Eigen::Vector3i>& triangles,
+                          const std::vector<SceneFlowView>& views, int object_id,
+                          const TrackOptions& options) {
+  options.Check();
+  U4D_CHECK(!views.empty(), "TrackVertices: no views given");
+  U4D_CHECK(object_id >= 1 && object_id <= 65535,
+            "TrackVertices: object_id must be an instance id in [1, 65535], found {}", object_id);
+  for (size_t i = 0; i < views.size(); ++i) CheckView(views[i], static_cast<int>(i));
+  const int nv = static_cast<int>(vertices.size());
+  for (const Eigen::Vector3i& t : triangles)
+    for (int k = 0; k < 3; ++k)
+      U4D_CHECK(t[k] >= 0 && t[k] < nv, "TrackVertices: triangle index {} out of range [0, {})",
+                t[k], nv);
+
+  TrackResult r;
+  r.positions = vertices;
+  r.tracked.assign(nv, 0);
+  r.candidates.assign(nv, 0);
+  std::vector<Eigen::Vector3d> disp(nv, Eigen::Vector3d::Zero());
+  std::vector<Eigen::Vector3d> cand;
+  for (int i = 0; i < nv; ++i) {
+    const Eigen::Vector3d& x = vertices[i];
+    cand.clear();
+    for (const SceneFlowView& v : views) {
+      const Eigen::Vector2d p = v.camera_t.Project(x);
+      if (!std::isfinite(p.x()) || !v.camera_t.InImage(p)) continue;
+      if (!v.instances_t.empty() && SampleId(v.instances_t, p) != object_id) continue;
+      const double d0 =
+          SampleObjectDepth(v.depth_t, v.instances_t, object_id, p, options.max_depth_jump);
+      if (d0 <= 0 || std::abs(v.camera_t.Depth(x) - d0) > options.visibility_tolerance) continue;
+      const Eigen::Vector2d q = p + SampleFlow(v.flow, v.instances_t, object_id, p);
+      if (!std::isfinite(q.x()) || !v.camera_t1.InImage(q)) continue;
+      if (!v.instances_t1.empty() && SampleId(v.instances_t1, q) != object_id) continue;
+      const double d1 =
+          SampleObjectDepth(v.depth_t1, v.instances_t1, object_id, q, options.max_depth_jump);
+      if (d1 <= 0) continue;
+      cand.push_back(v.camera_t1.Unproject(q, d1) - v.camera_t.Unproject(p, d0));
+    }
+    r.candidates[i] = static_cast<int>(cand.size());
+    if (cand.empty()) continue;
+    disp[i] = Consensus(cand, options.consistency_tolerance);
+    r.tracked[i] = 1;
+    ++r.num_tracked;
+  }
+  r.num_interpolated = nv - r.num_tracked;
+
+  if (r.num_interpolated > 0 && r.num_tracked > 0) {
+    std::vector<std::vector<int>> nbr(nv);
+    for (const Eigen::Vector3i& t : triangles)
+      for (int k = 0; k < 3; ++k) {
+        nbr[t[k]].push_back(t[(k + 1) % 3]);
+        nbr[t[k]].push_back(t[(k + 2) % 3]);
+      }
+    for (auto& n : nbr) {
+      std::sort(n.begin(), n.end());
+      n.erase(std::unique(n.begin(), n.end()), n.end());
+    }
+    // Start: displacement of the nearest tracked vertex (breadth-first).
+    std::vector<uint8_t> known(r.tracked);
+    std::deque<int> queue;
+    for (int i = 0; i < nv; ++i)
+      if (known[i]) queue.push_back(i);
+    while (!queue.empty()) {
+      const int i = queue.front();
+      queue.pop_front();
+      for (int j : nbr[i])
+        if (!known[j]) {
+          known[j] = 1;
+          disp[j] = disp[i];
+          queue.push_back(j);
+        }
+    }
+    // Jacobi iterations of the Laplacian with the tracked vertices fixed.
+    std::vector<Eigen::Vector3d> next = disp;
+    for (int it = 0; it < options.diffusion_iterations; ++it) {
+      for (int i = 0; i < nv; ++i) {
+        if (r.tracked[i] || !known[i] || nbr[i].empty()) continue;
+        Eigen::Vector3d s = Eigen::Vector3d::Zero();
+        for (int j : nbr[i]) s += disp[j];
+        next[i] = s / static_cast<double>(nbr[i].size());
+      }
+      std::swap(disp, next);
+    }
+  }
+  for (int i = 0; i < nv; ++i) r.positions[i] = vertices[i] + disp[i];
+  return r;
+}
+
+std::shared_ptr<open3d::geometry::TriangleMesh> AnimatedMesh::MeshAt(int k) const {
+  U4D_CHECK(k >= 0 && k < NumFrames(), "AnimatedMesh::MeshAt: frame index {} not in [0, {})", k,
+            NumFrames());
+  auto m = std::make_shared<open3d::geometry::TriangleMesh>();
+  m->vertices_ = positions[k];
+  m->triangles_ = triangles;
+  m->vertex_colors_ = colors;
+  m->ComputeVertexNormals();
+  return m;
+}
+
+AnimatedMesh TrackSegment(const open3d::geometry::TriangleMesh& keyframe_mesh, int object_id,
+                          int first_frame, int num_steps,
+                          const std::function<std::vector<SceneFlowView>(int step)>& step_views,
+                          const TrackOptions& options) {
+  U4D_CHECK(!keyframe_mesh.vertices_.empty() && !keyframe_mesh.triangles_.empty(),
+            "TrackSegment: the key-frame mesh of object {} is empty", object_id);
+  U4D_CHECK(num_steps >= 0, "TrackSegment: num_steps must be >= 0, found {}", num_steps);
+  AnimatedMesh a;
+  a.object_id = object_id;
+  a.first_frame = first_frame;
+  a.triangles = keyframe_mesh.triangles_;
+  if (keyframe_mesh.vertex_colors_.size() == keyframe_mesh.vertices_.size())
+    a.colors = keyframe_mesh.vertex_colors_;
+  a.positions.push_back(keyframe_mesh.vertices_);
+  for (int k = 0; k < num_steps; ++k) {
+    const TrackResult r =
+        TrackVertices(a.positions.back(), a.triangles, step_views(k), object_id, options);
+    a.positions.push_back(r.positions);
+    a.tracked_fraction.push_back(static_cast<double>(r.num_tracked) /
+                                 std::max<size_t>(1, r.positions.size()));
+  }
+  return a;
+}
+
+}  // namespace u4d
