@@ -1,0 +1,363 @@
+// Accuracy and timing of the joint per-view optimisation of label, depth and
+// motion (paper Sec. 2.1, src/u4d/joint/joint_view.h, docs/joint.md) on a
+// synthetic capture, against the baselines measured in the same run:
+//   segmentation  initial masks, GrabCut seeded with them, joint, ablations
+//   depth         winner-take-all plane sweep on the same cost volume, joint, ablations
+//   flow          zero, DIS, DeepFlow, Farneback, joint, ablations
+// Inputs are built as in joint_view_test.cc: GT 3D poses stand in for the
+// tracked poses and the sparse motions are GT flow sampled at random GT-valid
+// person pixels. Every view of frames 1 .. frames-2 is solved.
+// A plain executable that prints; run from a Release build:
+//   build/bench/joint_bench [--views 8] [--width 480] [--height 270] [--frames 4]
+//       [--start 128] [--preset handshake|meetup] [--sparse 150] [--no-ablations]
+//       [--max-views N] [--working-width 480]
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+#include "u4d/eval/dense_metrics.h"
+#include "u4d/eval/flow_baselines.h"
+#include "u4d/eval/grabcut_baseline.h"
+#include "u4d/eval/segmentation_metrics.h"
+#include "u4d/io/capture.h"
+#include "u4d/io/image_io.h"
+#include "u4d/io/instance_mask.h"
+#include "u4d/io/layout.h"
+#include "u4d/io/poses.h"
+#include "u4d/joint/frame_setup.h"
+#include "u4d/joint/joint_view.h"
+#include "u4d/synth/generate.h"
+#include "u4d/util/check.h"
+#include "u4d/util/timer.h"
+
+using namespace u4d;
+
+namespace {
+
+struct Args {
+  int views = 8, width = 480, height = 270, frames = 4, start = 128;
+  std::string preset = "handshake";
+  int sparse = 150;
+  bool ablations = true;
+  int max_views = -1;  // views solved per frame (-1 = all)
+  int working_width = 480;
+};
+
+Args ParseArgs(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string k = argv[i];
+    auto next = [&]() -> std::string {
+      U4D_CHECK(i + 1 < argc, "joint_bench: {} needs a value", k);
+      return argv[++i];
+    };
+    if (k == "--views")
+      a.views = std::stoi(next());
+    else if (k == "--width")
+      a.width = std::stoi(next());
+    else if (k == "--height")
+      a.height = std::stoi(next());
+    else if (k == "--frames")
+      a.frames = std::stoi(next());
+    else if (k == "--start")
+      a.start = std::stoi(next());
+    else if (k == "--preset")
+      a.preset = next();
+    else if (k == "--sparse")
+      a.sparse = std::stoi(next());
+    else if (k == "--no-ablations")
+      a.ablations = false;
+    else if (k == "--max-views")
+      a.max_views = std::stoi(next());
+    else if (k == "--working-width")
+      a.working_width = std::stoi(next());
+    else
+      throw Error(fmt::format(
+          "joint_bench: unknown argument '{}' (expected --views, --width, --height, --frames, "
+          "--start, --preset, --sparse, --no-ablations, --max-views, --working-width)",
+          k));
+  }
+  U4D_CHECK(a.frames >= 3, "joint_bench: --frames must be >= 3 (frames 1..frames-2 are solved)");
+  return a;
+}
+
+InstanceMask AsPersons(const cv::Mat& ids) {
+  InstanceMask mask;
+  mask.ids = ids;
+  double max_id = 0;
+  cv::minMaxLoc(ids, nullptr, &max_id);
+  for (int id = 1; id <= static_cast<int>(max_id); ++id)
+    if (cv::countNonZero(ids == id) > 0) mask.instances.push_back({id, "person", 1.0});
+  return mask;
+}
+
+struct Truth {
+  InstanceMask instances;
+  cv::Mat depth, flow, flow_valid;
+};
+
+Truth ReadTruth(const Capture& capture, int view, int frame) {
+  const std::string& name = capture.views[view].name;
+  Truth t;
+  t.instances = ReadInstanceMask(capture.root / layout::GtInstances(name, frame),
+                                 capture.root / layout::GtInstancesInfo(name, frame));
+  t.depth = ReadPfm(capture.root / layout::GtDepth(name, frame));
+  t.flow = ReadFlo(capture.root / layout::GtFlow(name, frame));
+  t.flow_valid = ReadMaskImage(capture.root / layout::GtFlowValid(name, frame));
+  return t;
+}
+
+// The truth at the working resolution (nearest neighbour; flow scaled).
+Truth ScaleTruth(const Truth& t, const cv::Size& size, double scale) {
+  if (t.depth.size() == size) return t;
+  Truth s = t;
+  cv::resize(t.instances.ids, s.instances.ids, size, 0, 0, cv::INTER_NEAREST);
+  cv::resize(t.depth, s.depth, size, 0, 0, cv::INTER_NEAREST);
+  cv::resize(t.flow, s.flow, size, 0, 0, cv::INTER_NEAREST);
+  s.flow *= scale;
+  cv::resize(t.flow_valid, s.flow_valid, size, 0, 0, cv::INTER_NEAREST);
+  return s;
+}
+
+// GT flow at random GT-valid person pixels (full resolution), as in joint_view_test.cc.
+std::vector<SparseMotion> SparseFromTruth(const Truth& t, int count, uint64_t seed) {
+  std::vector<cv::Point> candidates;
+  for (int y = 0; y < t.flow.rows; ++y)
+    for (int x = 0; x < t.flow.cols; ++x)
+      if (t.instances.ids.at<uint16_t>(y, x) > 0 && t.flow_valid.at<uint8_t>(y, x))
+        candidates.push_back({x, y});
+  std::mt19937_64 rng(seed);
+  std::shuffle(candidates.begin(), candidates.end(), rng);
+  std::vector<SparseMotion> sparse;
+  for (int i = 0; i < std::min<int>(count, candidates.size()); ++i) {
+    const cv::Vec2f f = t.flow.at<cv::Vec2f>(candidates[i]);
+    sparse.push_back({Eigen::Vector2d(candidates[i].x, candidates[i].y),
+                      Eigen::Vector2d(f[0], f[1]), t.instances.ids.at<uint16_t>(candidates[i])});
+  }
+  return sparse;
+}
+
+// Everything measured for one method.
+struct Stats {
+  eval::InstanceSegAccumulator seg;
+  eval::DepthMetrics depth;
+  eval::FlowMetrics flow;
+  double seconds = 0;
+  int runs = 0;
+  bool has_seg = false, has_depth = false, has_flow = false;
+};
+
+// Per energy-trace step (same schedule for every view): energy / E_init and time.
+struct TraceStats {
+  std::string block;
+  double sum_ratio = 0, sum_seconds = 0;
+  int count = 0;
+};
+
+double Nan() { return std::nan(""); }
+
+}  // namespace
+
+int main(int argc, char** argv) try {
+  const Args args = ParseArgs(argc, argv);
+  synth::SynthOptions so;
+  if (args.preset == "handshake") {
+    so = synth::SmallHandshakeOptions(args.views, args.width, args.height, args.frames);
+  } else {
+    so = synth::SynthPreset(args.preset);
+    so.rig.num_views = args.views;
+    so.rig.image_width = args.width;
+    so.rig.image_height = args.height;
+    so.num_frames = args.frames;
+    so.write_meshes = false;
+    if (args.preset == "meetup") {
+      const char* env = std::getenv("U4D_DATA_DIR");
+      const fs::path data = env != nullptr && *env ? fs::path(env) : fs::path("/work/shared/data");
+      so.mocap_bvh = data / "mocap_cmu131" / "scaled_131_02.bvh";
+    }
+  }
+  so.start_frame = args.start;
+  Timer gen_timer;
+  const fs::path dir = synth::WriteCaptureToTempDir("joint_bench", so);
+  std::printf("capture: %s, %d views %dx%d, %d frames from script frame %d (generated in %.1f s)\n",
+              args.preset.c_str(), args.views, args.width, args.height, args.frames, args.start,
+              gen_timer.Seconds());
+
+  const Capture capture = ReadCapture(dir);
+  FrameReader reader(capture);
+  std::vector<std::vector<Pose3d>> poses(capture.num_frames);
+  for (int f = 0; f < capture.num_frames; ++f)
+    poses[f] = ReadPoses3d(capture.root / layout::GtJoints3d(f));
+
+  std::vector<std::string> methods = {"full"};
+  if (args.ablations)
+    for (const char* m : {"P_M", "P_P", "P_PM", "P_S", "P_PS"}) methods.push_back(m);
+
+  std::map<std::string, Stats> stats;
+  std::vector<std::string> order = {"initial", "grabcut", "wta", "zero"};
+  for (eval::FlowBaseline b : eval::AllFlowBaselines()) order.push_back(eval::ToString(b));
+  for (const std::string& m : methods) order.push_back(m);
+  std::vector<TraceStats> trace;
+  int num_depth_labels = 0, num_motion_labels = 0, solved_views = 0;
+  const eval::InstanceSegOptions seg_options;
+  FrameSetupOptions setup;
+  setup.working_width = args.working_width;
+  double scale = 0;
+
+  for (int frame = 1; frame + 1 < capture.num_frames; ++frame) {
+    JointFrameData data = ReadJointFrameData(capture, &reader, frame, poses);
+    std::vector<Truth> truth;
+    for (int v = 0; v < capture.NumViews(); ++v) {
+      truth.push_back(ReadTruth(capture, v, frame));
+      data.sparse[v] = SparseFromTruth(truth.back(), args.sparse, 11 + v + 100 * frame);
+    }
+    const std::vector<JointViewInput> inputs = MakeJointViewInputs(data, setup, &scale);
+    JointViewOptions options;
+    options.weights = PaperWeights(capture.scene, capture.NumViews());
+    const int nv =
+        args.max_views > 0 ? std::min(args.max_views, capture.NumViews()) : capture.NumViews();
+    for (int v = 0; v < nv; ++v) {
+      const JointViewInput& in = inputs[v];
+      if (in.objects.empty()) continue;
+      ++solved_views;
+      const Truth t = ScaleTruth(truth[v], in.initial_labels.size(), scale);
+      const cv::Mat people = t.instances.ids > 0;
+      const std::string ctx = fmt::format("frame {} view {}", frame, v);
+      auto add_seg = [&](const std::string& m, const cv::Mat& labels, double seconds) {
+        Stats& s = stats[m];
+        const eval::InstanceSegResult r =
+            eval::EvaluateInstances(AsPersons(labels), t.instances, seg_options, ctx);
+        s.seg.Add(r);
+        s.has_seg = true;
+        s.seconds += seconds;
+        ++s.runs;
+        return r.mean_instance_iou;
+      };
+      auto add_depth = [&](const std::string& m, const cv::Mat& depth) {
+        stats[m].depth.Add(eval::EvaluateDepth(depth, t.depth, people, ctx));
+        stats[m].has_depth = true;
+      };
+      auto add_flow = [&](const std::string& m, const cv::Mat& flow) {
+        stats[m].flow.Add(eval::EvaluateFlow(flow, t.flow, t.flow_valid, people, ctx));
+        stats[m].has_flow = true;
+      };
+
+      const double iou_initial = add_seg("initial", in.initial_labels, 0);
+      Timer timer;
+      const cv::Mat grabcut = eval::GrabCutInstances(in.images_t[v], in.initial_labels);
+      add_seg("grabcut", grabcut, timer.Seconds());
+
+      cv::Mat full_roi;
+      for (const std::string& m : methods) {
+        JointViewOptions o = options;
+        o.terms = AblationTerms(m);
+        const JointViewResult r = SolveJointView(in, o);
+        const double iou = add_seg(m, r.labels, r.seconds);
+        add_depth(m, r.depth);
+        add_flow(m, r.flow);
+        if (m != "full") continue;
+        full_roi = r.roi;
+        num_depth_labels += r.num_depth_labels;
+        num_motion_labels += r.num_motion_labels;
+        const double e0 = r.energy_trace.empty() ? 1 : r.energy_trace.front().energy;
+        if (trace.size() < r.energy_trace.size()) trace.resize(r.energy_trace.size());
+        for (size_t i = 0; i < r.energy_trace.size(); ++i) {
+          trace[i].block = r.energy_trace[i].block;
+          trace[i].sum_ratio += r.energy_trace[i].energy / e0;
+          trace[i].sum_seconds += r.energy_trace[i].seconds;
+          ++trace[i].count;
+        }
+        std::printf("frame %d view %d: IoU %.3f -> %.3f, %d depth / %d motion labels, %.2f s\n",
+                    frame, v, iou_initial, iou, r.num_depth_labels, r.num_motion_labels, r.seconds);
+      }
+
+      // WTA plane sweep over the joint method's depth range and roi.
+      double near = 1e9, far = 0;
+      for (const JointObject& o : in.objects)
+        near = std::min(near, o.depth_near), far = std::max(far, o.depth_far);
+      timer.Restart();
+      const DepthCostVolume volume =
+          ComputeDepthCostVolume(in.cameras_t, in.images_t, v, full_roi, near, far, options.depth);
+      const cv::Mat wta = WinnerTakeAllDepth(volume, full_roi);
+      stats["wta"].seconds += timer.Seconds();
+      ++stats["wta"].runs;
+      add_depth("wta", wta);
+
+      add_flow("zero", cv::Mat::zeros(t.flow.size(), CV_32FC2));
+      for (eval::FlowBaseline b : eval::AllFlowBaselines()) {
+        timer.Restart();
+        const cv::Mat flow = eval::BaselineFlow(b, in.images_t[v], in.images_t1[v]);
+        Stats& s = stats[eval::ToString(b)];
+        s.seconds += timer.Seconds();
+        ++s.runs;
+        add_flow(eval::ToString(b), flow);
+      }
+      std::fflush(stdout);
+    }
+  }
+  U4D_CHECK(solved_views > 0, "joint_bench: no view had an object to solve");
+  std::printf(
+      "\n%d view-frames solved (frames 1..%d), working scale %.3f, mean %.1f depth / %.1f "
+      "motion labels\n",
+      solved_views, capture.num_frames - 2, scale,
+      static_cast<double>(num_depth_labels) / solved_views,
+      static_cast<double>(num_motion_labels) / solved_views);
+
+  auto get = [&](const std::string& m) -> const Stats& { return stats[m]; };
+  std::printf("\nSegmentation (GT person instances, instance-weighted mean IoU)\n");
+  std::printf("| method | mean instance IoU | merged GT | missed | false pos. |\n");
+  std::printf("|---|---|---|---|---|\n");
+  for (const std::string& m : order) {
+    const Stats& s = get(m);
+    if (!s.has_seg) continue;
+    std::printf("| %s | %.3f | %d | %d | %d |\n", m.c_str(), s.seg.MeanInstanceIoU(), s.seg.merged,
+                s.seg.missed, s.seg.false_positives);
+  }
+  std::printf("\nDepth (GT person pixels)\n");
+  std::printf("| method | within 1%% | within 5%% | AbsRel | completeness |\n");
+  std::printf("|---|---|---|---|---|\n");
+  for (const std::string& m : order) {
+    const Stats& s = get(m);
+    if (!s.has_depth) continue;
+    std::printf("| %s | %.3f | %.3f | %.4f | %.3f |\n", m.c_str(), s.depth.Delta1Pct(),
+                s.depth.Delta5Pct(), s.depth.AbsRel(), s.depth.Completeness());
+  }
+  std::printf("\nFlow (GT-valid person pixels, working resolution)\n");
+  std::printf("| method | EPE px | within 1 px | within 3 px | completeness |\n");
+  std::printf("|---|---|---|---|---|\n");
+  for (const std::string& m : order) {
+    const Stats& s = get(m);
+    if (!s.has_flow) continue;
+    std::printf("| %s | %.3f | %.3f | %.3f | %.3f |\n", m.c_str(), s.flow.Epe(), s.flow.Within1Px(),
+                s.flow.Within3Px(), s.flow.Completeness());
+  }
+  const double full_s = get("full").runs ? get("full").seconds / get("full").runs : Nan();
+  std::printf("\nTime per view (same run)\n");
+  std::printf("| method | s / view | joint (full) / method |\n");
+  std::printf("|---|---|---|\n");
+  for (const std::string& m : order) {
+    const Stats& s = get(m);
+    if (s.runs == 0 || m == "initial" || m == "zero") continue;
+    const double per = s.seconds / s.runs;
+    std::printf("| %s | %.3f | %.1f |\n", m.c_str(), per, full_s / per);
+  }
+  std::printf("\nEnergy trace of the full method (mean over views; E / E_init)\n");
+  std::printf("| step | block | E / E_init | s |\n");
+  std::printf("|---|---|---|---|\n");
+  for (size_t i = 0; i < trace.size(); ++i)
+    std::printf("| %zu | %s | %.4f | %.3f |\n", i, trace[i].block.c_str(),
+                trace[i].sum_ratio / trace[i].count, trace[i].sum_seconds / trace[i].count);
+  fs::remove_all(dir);
+  return 0;
+} catch (const std::exception& e) {
+  std::fprintf(stderr, "joint_bench: %s\n", e.what());
+  return 1;
+}

@@ -1,0 +1,211 @@
+#include "u4d/joint/frame_setup.h"
+
+#include <algorithm>
+#include <map>
+
+#include <opencv2/imgproc.hpp>
+
+#include "u4d/io/instance_mask.h"
+#include "u4d/io/layout.h"
+#include "u4d/util/check.h"
+
+namespace u4d {
+namespace {
+
+cv::Mat Resize(const cv::Mat& image, const Camera& working, int interpolation) {
+  if (image.empty() || (image.cols == working.width && image.rows == working.height)) return image;
+  cv::Mat out;
+  cv::resize(image, out, cv::Size(working.width, working.height), 0, 0, interpolation);
+  return out;
+}
+
+}  // namespace
+
+void FrameSetupOptions::Check() const {
+  U4D_CHECK(working_width >= 16, "FrameSetupOptions.working_width must be >= 16, got {}",
+            working_width);
+  U4D_CHECK(depth_margin_m > 0, "FrameSetupOptions.depth_margin_m must be > 0");
+  U4D_CHECK(min_joints_inside >= 1, "FrameSetupOptions.min_joints_inside must be >= 1");
+  pose.Check();
+}
+
+cv::Mat AssignInstancesToPeople(const Camera& camera, const cv::Mat& mask_ids,
+                                const std::vector<Pose3d>& poses,
+                                const FrameSetupOptions& options) {
+  U4D_CHECK(mask_ids.type() == CV_16UC1 && mask_ids.cols == camera.width &&
+                mask_ids.rows == camera.height,
+            "AssignInstancesToPeople: mask must be CV_16U {}x{}", camera.width, camera.height);
+  // votes[instance][person] = joints of the person inside the instance.
+  std::map<int, std::map<int, int>> votes;
+  for (const Pose3d& pose : poses) {
+    U4D_CHECK(pose.person_id >= 1, "AssignInstancesToPeople: person ids must be >= 1");
+    for (const Eigen::Vector4d& j : pose.joints) {
+      if (j.w() < options.min_joint_confidence) continue;
+      const Eigen::Vector2d x = camera.Project(j.head<3>());
+      if (!x.allFinite() || !camera.InImage(x)) continue;
+      const int id = mask_ids.at<uint16_t>(static_cast<int>(std::lround(x.y())),
+                                           static_cast<int>(std::lround(x.x())));
+      if (id > 0) ++votes[id][pose.person_id];
+    }
+  }
+  std::map<int, int> object_of;
+  for (const auto& [instance, people] : votes) {
+    const auto best =
+        std::max_element(people.begin(), people.end(),
+                         [](const auto& a, const auto& b) { return a.second < b.second; });
+    if (best->second >= options.min_joints_inside) object_of[instance] = best->first;
+  }
+  cv::Mat labels = cv::Mat::zeros(mask_ids.size(), CV_16U);
+  for (int y = 0; y < labels.rows; ++y)
+    for (int x = 0; x < labels.cols; ++x) {
+      const auto it = object_of.find(mask_ids.at<uint16_t>(y, x));
+      if (it != object_of.end()) labels.at<uint16_t>(y, x) = static_cast<uint16_t>(it->second);
+    }
+  return labels;
+}
+
+std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
+                                                const FrameSetupOptions& options, double* scale) {
+  options.Check();
+  const int nv = static_cast<int>(data.cameras_t.size());
+  U4D_CHECK(nv >= 2, "MakeJointViewInputs: need >= 2 views, got {}", nv);
+  U4D_CHECK(
+      static_cast<int>(data.images_t.size()) == nv && static_cast<int>(data.masks_t.size()) == nv,
+      "MakeJointViewInputs: {} cameras but {} images and {} masks at t", nv, data.images_t.size(),
+      data.masks_t.size());
+  const bool has_next = !data.images_t1.empty();
+  U4D_CHECK(!has_next || (static_cast<int>(data.images_t1.size()) == nv &&
+                          static_cast<int>(data.cameras_t1.size()) == nv),
+            "MakeJointViewInputs: images and cameras at t+1 must cover all {} views", nv);
+  const double s =
+      std::min(1.0, static_cast<double>(options.working_width) / data.cameras_t[0].width);
+  if (scale) *scale = s;
+
+  std::vector<Camera> cams_t(nv), cams_t1;
+  std::vector<cv::Mat> images_t(nv), images_t1, images_prev(nv);
+  for (int v = 0; v < nv; ++v) {
+    cams_t[v] = ScaledCamera(data.cameras_t[v], s);
+    images_t[v] = Resize(data.images_t[v], cams_t[v], cv::INTER_AREA);
+    if (v < static_cast<int>(data.images_prev.size()))
+      images_prev[v] = Resize(data.images_prev[v], cams_t[v], cv::INTER_AREA);
+  }
+  if (has_next) {
+    cams_t1.resize(nv);
+    images_t1.resize(nv);
+    for (int v = 0; v < nv; ++v) {
+      cams_t1[v] = ScaledCamera(data.cameras_t1[v], s);
+      images_t1[v] = Resize(data.images_t1[v], cams_t1[v], cv::INTER_AREA);
+    }
+  }
+  int num_labels = 1;
+  for (const Pose3d& p : data.poses_t) num_labels = std::max(num_labels, p.person_id + 1);
+  std::vector<PersonPose> people;
+  for (const Pose3d& p : data.poses_t) {
+    PersonPose person;
+    person.object_id = p.person_id;
+    person.at_t = p;
+    for (const Pose3d& q : data.poses_t1)
+      if (q.person_id == p.person_id) person.at_t1 = q, person.has_t1 = has_next;
+    people.push_back(person);
+  }
+
+  auto labels_at = [&](const std::vector<cv::Mat>& masks, const std::vector<Camera>& full_cams,
+                       int v, const Camera& working) -> cv::Mat {
+    if (v >= static_cast<int>(masks.size()) || masks[v].empty()) return {};
+    const cv::Mat ids = AssignInstancesToPeople(full_cams[v], masks[v], data.poses_t, options);
+    return Resize(ids, working, cv::INTER_NEAREST);
+  };
+
+  std::vector<JointViewInput> inputs(nv);
+  for (int v = 0; v < nv; ++v) {
+    JointViewInput& in = inputs[v];
+    in.ref_view = v;
+    in.cameras_t = cams_t;
+    in.cameras_t1 = cams_t1;
+    in.images_t = images_t;
+    in.images_t1 = images_t1;
+    in.num_labels = num_labels;
+    in.people = people;
+    const Camera& cam = cams_t[v];
+    in.initial_labels = labels_at(data.masks_t, data.cameras_t, v, cam);
+    if (in.initial_labels.empty())
+      in.initial_labels = cv::Mat::zeros(cam.height, cam.width, CV_16U);
+    in.appearance_training.push_back({images_t[v], in.initial_labels});
+    if (!images_prev[v].empty()) {
+      const cv::Mat prev = labels_at(data.masks_prev, data.cameras_t, v, cam);
+      if (!prev.empty()) in.appearance_training.push_back({images_prev[v], prev});
+    }
+    if (has_next) {
+      const cv::Mat next = labels_at(data.masks_t1, data.cameras_t1, v, cams_t1[v]);
+      if (!next.empty()) in.appearance_training.push_back({images_t1[v], next});
+    }
+    if (v < static_cast<int>(data.sparse.size()))
+      for (const SparseMotion& sm : data.sparse[v]) {
+        SparseMotion scaled = sm;
+        scaled.pixel = s * (sm.pixel.array() + 0.5).matrix() - Eigen::Vector2d::Constant(0.5);
+        scaled.displacement = s * sm.displacement;
+        in.sparse.push_back(scaled);
+      }
+    // Regions: instances plus capsules; depth ranges from the joints.
+    const PosePriorMap capsules =
+        RenderPosePrior(cam, has_next ? cams_t1[v] : cam, images_t[v], people, options.pose);
+    for (const PersonPose& person : people) {
+      JointObject obj;
+      obj.id = person.object_id;
+      obj.region = (in.initial_labels == obj.id) | (capsules.object == obj.id);
+      double zmin = 1e30, zmax = 0;
+      for (const Eigen::Vector4d& j : person.at_t.joints) {
+        if (j.w() < options.min_joint_confidence) continue;
+        const double z = cam.Depth(j.head<3>());
+        if (z > 0) zmin = std::min(zmin, z), zmax = std::max(zmax, z);
+      }
+      if (zmax <= 0 || cv::countNonZero(obj.region) == 0) continue;
+      obj.depth_near = std::max(0.05, zmin - options.depth_margin_m);
+      obj.depth_far = zmax + options.depth_margin_m;
+      in.objects.push_back(obj);
+    }
+  }
+  return inputs;
+}
+
+JointFrameData ReadJointFrameData(const Capture& capture, FrameReader* reader, int frame,
+                                  const std::vector<std::vector<Pose3d>>& poses_by_frame) {
+  U4D_CHECK(frame >= 0 && frame < capture.num_frames, "ReadJointFrameData: frame {} out of [0, {})",
+            frame, capture.num_frames);
+  const int nv = capture.NumViews();
+  auto read_masks = [&](int f) {
+    std::vector<cv::Mat> masks(nv);
+    for (int v = 0; v < nv; ++v) {
+      const fs::path png = capture.root / layout::Mask(capture.views[v].name, f);
+      if (fs::exists(png))
+        masks[v] =
+            ReadInstanceMask(png, capture.root / layout::MaskInfo(capture.views[v].name, f)).ids;
+    }
+    return masks;
+  };
+  auto read_images = [&](int f) {
+    std::vector<cv::Mat> images(nv);
+    for (int v = 0; v < nv; ++v) images[v] = reader->Read(v, f);
+    return images;
+  };
+  JointFrameData data;
+  for (int v = 0; v < nv; ++v) data.cameras_t.push_back(capture.views[v].CameraAt(frame));
+  data.images_t = read_images(frame);
+  data.masks_t = read_masks(frame);
+  if (frame > 0) {
+    data.images_prev = read_images(frame - 1);
+    data.masks_prev = read_masks(frame - 1);
+  }
+  if (frame + 1 < capture.num_frames) {
+    for (int v = 0; v < nv; ++v) data.cameras_t1.push_back(capture.views[v].CameraAt(frame + 1));
+    data.images_t1 = read_images(frame + 1);
+    data.masks_t1 = read_masks(frame + 1);
+  }
+  if (frame < static_cast<int>(poses_by_frame.size())) data.poses_t = poses_by_frame[frame];
+  if (frame + 1 < static_cast<int>(poses_by_frame.size()))
+    data.poses_t1 = poses_by_frame[frame + 1];
+  data.sparse.resize(nv);
+  return data;
+}
+
+}  // namespace u4d

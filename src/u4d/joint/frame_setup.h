@@ -1,0 +1,63 @@
+// Builds the per-view inputs of the joint optimisation (joint_view.h) for one
+// frame from the capture's data: images at t−1, t, t+1, the detector's
+// initial instance masks, the tracked 3D poses and the sparse temporal
+// correspondences, all at full resolution. Everything is resized to the
+// working resolution here.
+//
+// Objects are the tracked people: object id = Pose3d::person_id (>= 1, the
+// same in every view and frame). A detector instance of a view takes the
+// object whose projected joints fall inside it most often (at least
+// `min_joints_inside`); instances with no such person are dropped as false
+// positives (they become background in the initial labels). A person's
+// region in a view is its instances plus its capsule model (pose_prior.h),
+// which restores limbs the detector dropped (paper: "dilating the boundary to
+// include the missing joints"); its depth range is the z range of its joints
+// widened by `depth_margin_m`.
+#pragma once
+
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "u4d/io/capture.h"
+#include "u4d/io/frame_reader.h"
+#include "u4d/joint/joint_view.h"
+
+namespace u4d {
+
+struct JointFrameData {
+  std::vector<Camera> cameras_t, cameras_t1;              // full resolution; t1 empty = last frame
+  std::vector<cv::Mat> images_prev, images_t, images_t1;  // BGR; prev / t1 may be empty
+  std::vector<cv::Mat> masks_prev, masks_t, masks_t1;     // CV_16U detector ids; empty Mat = none
+  std::vector<Pose3d> poses_t, poses_t1;                  // person_id >= 1
+  std::vector<std::vector<SparseMotion>> sparse;          // per view, t -> t+1, full resolution
+};
+
+struct FrameSetupOptions {
+  int working_width = 480;       // the optimisation runs at this width (never upscaled)
+  double depth_margin_m = 0.35;  // depth range: joints' z range widened by this
+  int min_joints_inside = 3;     // joints needed inside an instance to assign it to a person
+  double min_joint_confidence = 0.1;
+  PosePriorOptions pose;  // capsule model used for the regions
+  void Check() const;
+};
+
+// Detector ids -> object ids by the projected joints (see above). CV_16U.
+cv::Mat AssignInstancesToPeople(const Camera& camera, const cv::Mat& mask_ids,
+                                const std::vector<Pose3d>& poses, const FrameSetupOptions& options);
+
+// One JointViewInput per view (views where no person projects get no objects
+// and are still returned; SolveJointView throws for them, so callers skip
+// views with empty `objects`). Also returns the working scale.
+std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
+                                                const FrameSetupOptions& options, double* scale);
+
+// Reads frame `frame` of a capture (with t−1 and t+1 when they exist): images,
+// the initial masks in masks/ (views without a mask file get none) and the
+// given poses of t and t+1 (`poses_by_frame[f]`, may be empty). Sparse
+// correspondences are left empty for the caller. Throws u4d::Error naming the
+// file on a missing or corrupt frame.
+JointFrameData ReadJointFrameData(const Capture& capture, FrameReader* reader, int frame,
+                                  const std::vector<std::vector<Pose3d>>& poses_by_frame);
+
+}  // namespace u4d

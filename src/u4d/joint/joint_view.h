@@ -1,0 +1,111 @@
+// The joint per-view optimisation of instance label l, depth d and motion m
+// (paper Sec. 2.1, Eq. 1) for one view at frame t:
+//
+//   E(l,d,m) = λ_d E_d + λ_a E_a + λ_sem E_sem + λ_f E_f
+//            + λ_s E_s + λ_c E_c + λ_r E_r + λ_p E_p
+//
+// Terms (each normalised to about [0, 1] per pixel or neighbour pair):
+//   E_d   depth_cost.h (multi-view ZNCC over the k best auxiliary views; U at M_U)
+//   E_a   label_costs.h AppearanceCosts (10-component colour GMMs, ψ_T masks + sparse markers)
+//   E_sem label_costs.h SemanticCosts (soft initial instance masks)
+//   E_f   flow_cost.h (temporal and cross-view brightness constancy; sparse-track windows)
+//   E_s   [l_p = l_q] (λ_s^s min(|d_p − d_q|, τ_d) / τ_d) over 8-neighbours, depth in label
+//         steps (inverse depth), U against a depth costs 1; plus the temporal part
+//         λ_s^t min(|d_p − d^{t−1}_p|, τ_d) / τ_d against the previous frame's depth
+//         carried to t by its flow (when given)
+//   E_c   [l_p ≠ l_q] (λ_ca c_pq + λ_cl s_pq) / (λ_ca + λ_cl): colour and semantic contrast
+//   E_r   [l_p = l_q] w_pq min(||m_p − m_q||, τ_m) / τ_m, w_pq = 1 + λ_r^L e_r^L + λ_r^A e_r^A
+//         with e_r^X(p) = mean − min of E_X over p's 3x3 window at the initial labels
+//         (fixed for the whole optimisation, so the energy is one function)
+//   E_p   pose_prior.h, (λ_2d e_2d + λ_3d e_3d) / (λ_2d + λ_3d)
+//
+// Solver: the product label space L × D × M is optimised by alternating
+// α-expansion over each factor with the others fixed (mrf/expansion.h): a
+// label block (α ∈ L), a depth block (α ∈ D ∪ {U}) and a motion block
+// (α ∈ M), `rounds` times. Every move is an expansion move of the full
+// energy restricted to one factor and is accepted only when the full energy
+// decreases, so the energy never increases (JointViewResult::energy_trace).
+// Tractability (the design brief): only pixels of the objects' regions
+// (dilated) are optimised, depth labels span the objects' depth range,
+// motion labels are windows around the sparse track displacements, and the
+// problem is solved at a working resolution (JointViewOptions::working_width).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "u4d/geometry/camera.h"
+#include "u4d/joint/depth_cost.h"
+#include "u4d/joint/flow_cost.h"
+#include "u4d/joint/label_costs.h"
+#include "u4d/joint/motion_labels.h"
+#include "u4d/joint/parameters.h"
+#include "u4d/joint/pose_prior.h"
+#include "u4d/mrf/max_flow.h"
+
+namespace u4d {
+
+struct JointViewOptions {
+  JointWeights weights;              // λ's (PaperWeights by default)
+  JointTerms terms;                  // which terms are on (AblationTerms)
+  LabelCostOptions labels;           // E_a, E_sem
+  DepthCostOptions depth;            // E_d
+  MotionLabelOptions motion_labels;  // M and e_F^S
+  FlowCostOptions flow;              // E_f
+  PosePriorOptions pose;             // E_p
+  int rounds = 2;                    // alternations of the l, d, m blocks
+  int sweeps_per_block = 2;          // expansion sweeps per block and round
+  double depth_truncation = 4;       // τ_d, depth label steps
+  double motion_truncation_px = 4;   // τ_m, pixels (working resolution)
+  int roi_margin_px = 8;             // dilation of the objects' regions (working pixels)
+  mrf::MaxFlowAlgorithm algorithm = mrf::MaxFlowAlgorithm::kBoykovKolmogorov;
+  void Check() const;
+};
+
+// One object in this view: its region and depth range (features/object_regions.h),
+// at the working resolution.
+struct JointObject {
+  int id = 0;                            // label (>= 1)
+  cv::Mat region;                        // CV_8U, nonzero inside
+  double depth_near = 0, depth_far = 0;  // metres (z in the camera); 0 = unknown
+};
+
+// Everything the optimisation of one view at frame t needs, at the working
+// resolution (cameras via ScaledCamera, images resized).
+struct JointViewInput {
+  int ref_view = 0;
+  std::vector<Camera> cameras_t, cameras_t1;  // all views
+  std::vector<cv::Mat> images_t, images_t1;   // all views, BGR 8-bit; images_t1 empty = last frame
+  cv::Mat initial_labels;                     // CV_16U object ids of the reference view
+  int num_labels = 1;                         // 1 + the largest object id
+  std::vector<JointObject> objects;
+  std::vector<LabelledImage> appearance_training;     // ψ_T (incl. frame t)
+  std::vector<std::vector<Eigen::Vector2d>> markers;  // per label: sparse foreground pixels
+  std::vector<PersonPose> people;                     // 3D poses (may be empty)
+  std::vector<SparseMotion> sparse;                   // sparse correspondences t -> t+1
+  cv::Mat previous_depth;  // CV_32F depth of t−1 carried to t (0 = none); empty = none
+};
+
+// Energy after each block, with its name ("init", "labels", "depth", "motion").
+struct EnergyStep {
+  std::string block;
+  double energy = 0;
+  double seconds = 0;
+};
+
+struct JointViewResult {
+  cv::Mat labels;  // CV_16U object ids (0 = background), working resolution
+  cv::Mat depth;   // CV_32F z (0 = background or unknown)
+  cv::Mat flow;    // CV_32FC2 forward flow t -> t+1 (pixels, working resolution)
+  cv::Mat roi;     // CV_8U the optimised pixels
+  std::vector<EnergyStep> energy_trace;
+  int num_depth_labels = 0, num_motion_labels = 0;
+  double seconds = 0;
+};
+
+// Throws u4d::Error on inconsistent input (sizes, counts, label ids).
+JointViewResult SolveJointView(const JointViewInput& input, const JointViewOptions& options);
+
+}  // namespace u4d

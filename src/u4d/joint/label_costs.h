@@ -1,0 +1,96 @@
+// The label (instance) unary terms of the joint energy and the colour
+// contrast weights (paper Sec. "Unary terms"; Appendix A for E_c).
+//
+// Labels: 0 is the background, k >= 1 the object ids (the same in every view).
+//
+// E_a(l) — appearance: −log P(I_p | l) under a colour GMM per label
+//   (10 components, as the paper), learned from the initial masks of the
+//   temporal neighbourhood ψ_T (frames t−1, t, t+1 of the view) plus the
+//   sparse foreground markers (projected sparse 3D points of the object).
+// E_sem(l) — semantic: −log P_sem(l | p) where P_sem is a soft version of the
+//   initial instance masks: a logistic function of the signed distance to each
+//   label's mask boundary, floored at `min_probability` and normalised over
+//   the labels. (Mask R-CNN-style detectors give hard masks; the softening
+//   expresses that their boundaries are uncertain by a few pixels.)
+//
+// Normalisation: both terms are negative log ratios to the best label at the
+// pixel, divided by log(1 / min_probability) and clamped to [0, 1], so a
+// label 1/min_probability times less likely than the best costs 1.
+#pragma once
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+namespace u4d {
+
+// A Gaussian mixture over BGR colours in [0, 255].
+struct ColorGmm {
+  std::vector<double> weights;
+  std::vector<Eigen::Vector3d> means;
+  std::vector<Eigen::Matrix3d> inv_covs;
+  std::vector<double> log_norms;  // log(weight / sqrt((2π)^3 det Σ))
+  double LogLikelihood(const cv::Vec3b& bgr) const;
+  bool Empty() const { return weights.empty(); }
+};
+
+// EM fit (cv::ml::EM, full covariances) with at most `components`; fewer when
+// there are few samples (>= 8 samples per component). A tiny diagonal term
+// keeps covariances invertible. Throws u4d::Error when `samples` is empty.
+ColorGmm FitColorGmm(const std::vector<cv::Vec3b>& samples, int components, uint64_t seed);
+
+struct LabelCostOptions {
+  int gmm_components = 10;           // paper: GMMs with 10 components
+  int max_samples_per_label = 4000;  // colour samples used to fit a GMM (random subset)
+  int background_band_px = 25;    // background samples: within this distance of the ROI's objects
+  double mask_softness_px = 2.0;  // logistic scale of P_sem across a mask boundary (pixels)
+  double min_probability =
+      0.01;           // floor of P_sem and of the likelihood ratio (sets the normalisation)
+  uint64_t seed = 7;  // sampling and EM initialisation
+  void Check() const;
+};
+
+// Per-pixel costs of every label, label-major: cost[l * W * H + pixel].
+struct LabelCostVolume {
+  int width = 0, height = 0, num_labels = 0;
+  std::vector<float> cost;
+  float At(int pixel, int label) const {
+    return cost[static_cast<size_t>(label) * width * height + pixel];
+  }
+};
+
+// One training image of the temporal neighbourhood: an image with its
+// initial label map (CV_16U, label ids as above, 0 = background).
+struct LabelledImage {
+  cv::Mat image;   // BGR 8-bit
+  cv::Mat labels;  // CV_16U
+};
+
+// E_a for labels 0..num_labels-1 on `image`. `markers[l]` are extra
+// foreground pixels of label l in `image` (sparse markers; may be empty).
+// Labels without any sample get cost 1 everywhere. Throws on size mismatch.
+LabelCostVolume AppearanceCosts(const cv::Mat& image, const std::vector<LabelledImage>& training,
+                                int num_labels,
+                                const std::vector<std::vector<Eigen::Vector2d>>& markers,
+                                const LabelCostOptions& options = {});
+
+// E_sem for labels 0..num_labels-1 from the initial label map (CV_16U).
+LabelCostVolume SemanticCosts(const cv::Mat& initial_labels, int num_labels,
+                              const LabelCostOptions& options = {});
+
+// Colour-contrast weight of each neighbour pair for E_c:
+// exp(−||I_p − I_q||² / (2β)) / |p − q|, β the mean of ||I_p − I_q||² over
+// the pairs (as GrabCut). `pairs` as mrf::NeighbourPairs.
+std::vector<float> ContrastWeights(const cv::Mat& image,
+                                   const std::vector<std::pair<int, int>>& pairs);
+
+// Semantic-contrast weight of each pair (the λ_cl part of E_c): the same
+// form on the per-label semantic cost vectors instead of colours, so a label
+// change is cheap where the initial segmentation changes.
+std::vector<float> SemanticContrastWeights(const LabelCostVolume& semantic,
+                                           const std::vector<std::pair<int, int>>& pairs);
+
+}  // namespace u4d

@@ -1,0 +1,99 @@
+// The human-pose term E_p(l,d,m) of the joint energy (paper Sec. 2.1.2,
+// "Human-pose constraints"):
+//
+//   E_p = Σ_{b_i} λ_2d (e_2d^L(l) + e_2d^S(l) + e_2d^M(m)) + λ_3d (e_3d^S(d) + e_3d^M(d))
+//
+// The paper places a circle C_i around each projected joint and a sphere S_i
+// around each 3D joint. Here the circles and spheres along a bone are swept
+// into capsules: every bone of every person is sampled, each sample drawn as a
+// disc of the capsule radius at its depth, with a z-buffer so that a person
+// in front claims the pixels it covers (a joint hidden behind another person
+// constrains nothing there). The result, per view and frame, is a PosePriorMap:
+// for each covered pixel the person, the bone, a spatial weight w(p) =
+// exp(−(r / core_fraction)² / 2) with r the distance to the bone axis in
+// capsule radii, the
+// colour similarity to the axis (e_2d^L, σ_L the mean over covered pixels as
+// the paper's ⟨·⟩), and the 2D displacement of the axis point from t to t+1.
+//
+// Sub-terms, each in [0, 1] at a pixel covered by person k:
+//   e_2d^S(l)    = w(p) [l ≠ k]                        label near the projected pose
+//   e_2d^L(l)    = w(p) c(p) [l ≠ k]                   ... when the colour matches the axis
+//   e_2d^M(m)    = w(p) (1 − exp(−||m − δ(p)||² / 2σ_m²))      δ: the axis point's 2D motion
+//   e_3d^S(d)    = w(p) (1 − exp(−max(0, dist(Φ(p), bone) − R)² / 2σ_s²))
+//   e_3d^M(d, m) = w(p) (1 − exp(−||p + m − Π_{t+1}(a' + R_i (Φ(p) − a))||² / 2σ_m²))
+// where Φ(p) is the 3D point at the pixel's depth, a / a' the bone's parent
+// joint at t / t+1 and R_i the bone's rotation from t to t+1 (the minimal
+// rotation taking the bone direction at t to that at t+1): the
+// as-rigid-as-possible motion of the points around the joint. e_3d terms are 0
+// for the unknown depth U, e_2d^M and e_3d^M need the pose at t+1.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "u4d/geometry/camera.h"
+#include "u4d/io/poses.h"
+
+namespace u4d {
+
+struct PosePriorOptions {
+  double limb_radius_m = 0.06;   // capsule radius of arm and leg bones
+  double torso_radius_m = 0.14;  // capsule radius of spine, hip and shoulder bones
+  double head_radius_m = 0.10;   // capsule radius of the neck-head bone
+  double core_fraction = 0.5;    // w(p) = exp(−(r / core_fraction)² / 2), r in capsule radii:
+                                 // the pose is trusted most near the bone axis
+  int samples_per_bone = 12;     // discs drawn along each bone
+  double min_confidence = 0.1;   // joints below this confidence are missing
+  double sigma_motion_px = 3.0;  // σ_m of the motion sub-terms (pixels, working resolution)
+  double sigma_shape_m = 0.05;   // σ_s of the 3D shape sub-term (metres)
+  void Check() const;
+};
+
+// A person's 3D pose at t and, when known, at t+1 (H36M-17, world frame).
+struct PersonPose {
+  int object_id = 0;  // the label of the person (>= 1)
+  Pose3d at_t;
+  Pose3d at_t1;
+  bool has_t1 = false;
+};
+
+// One bone as the 3D terms need it.
+struct PriorBone {
+  int object_id = 0;
+  Eigen::Vector3d a, b;      // parent and child joint at t
+  Eigen::Vector3d a1, b1;    // at t+1 (equal to a, b without a pose at t+1)
+  Eigen::Matrix3d rotation;  // R_i: bone direction at t -> at t+1
+  double radius = 0;         // capsule radius (metres)
+  bool has_motion = false;
+};
+
+struct PosePriorMap {
+  int width = 0, height = 0;
+  std::vector<PriorBone> bones;
+  cv::Mat bone;           // CV_32S index into bones; -1 = no person here
+  cv::Mat object;         // CV_16U the covering person's label; 0 = none
+  cv::Mat weight;         // CV_32F w(p)
+  cv::Mat colour_weight;  // CV_32F c(p) in [0, 1]
+  cv::Mat motion_2d;      // CV_32FC2 δ(p) (0 without a pose at t+1)
+  cv::Mat has_motion;     // CV_8U 1 where δ(p) is known
+};
+
+// Draws the capsules of `people` into a view. `camera_t1` is the view at t+1
+// (the same for static rigs); `image` (BGR, camera size) gives the colours.
+PosePriorMap RenderPosePrior(const Camera& camera_t, const Camera& camera_t1, const cv::Mat& image,
+                             const std::vector<PersonPose>& people,
+                             const PosePriorOptions& options = {});
+
+// The sub-terms above at pixel index p (p = y * width + x).
+double PoseLabelCost(const PosePriorMap& map, int p, int label);  // e_2d^S + e_2d^L
+double PoseMotion2dCost(const PosePriorMap& map, int p, const Eigen::Vector2f& motion,
+                        const PosePriorOptions& options);
+// e_3d^S + e_3d^M for the 3D point `point_in_world` seen at p; `moved_pixel`
+// is p + m (the pixel's flow), `camera_t1` the view at t+1.
+double Pose3dCost(const PosePriorMap& map, int p, const Eigen::Vector3d& point_in_world,
+                  const Eigen::Vector2d& moved_pixel, const Camera& camera_t1,
+                  const PosePriorOptions& options);
+
+}  // namespace u4d
