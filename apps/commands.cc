@@ -8,11 +8,14 @@ Command MakeEvalCommand();
 Command MakeImportCommand();
 Command MakeSynthCommand();
 Command MakeDemoCommand();
+Command MakeSceneFromGtCommand();
+Command MakeViewCommand();
+Command MakeExportViewerCommand();
 
 const std::vector<Command>& Commands() {
   static const std::vector<Command> commands = {
-      MakeInfoCommand(),  MakeEvalCommand(), MakeImportCommand(),
-      MakeSynthCommand(), MakeDemoCommand(),
+      MakeInfoCommand(), MakeEvalCommand(),        MakeImportCommand(), MakeSynthCommand(),
+      MakeDemoCommand(), MakeSceneFromGtCommand(), MakeViewCommand(),   MakeExportViewerCommand(),
   };
   return commands;
 }

@@ -8,7 +8,24 @@ packages=(
   libopencv-dev libopencv-contrib-dev libeigen3-dev libopen3d-dev libtbb-dev
   nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev libboost-graph-dev
+  libcpp-httplib-dev chromium
 )
+# The web viewer (viewer/) needs node and npm; any recent node (>= 18) will
+# do, so Debian's packages are installed only when no npm is on the PATH.
+command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)
+
+# The viewer's npm packages (three.js, esbuild, playwright-core), from
+# viewer/package-lock.json; skipped when already installed.
+install_viewer_deps() {
+  local root
+  root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+  if [ -d "$root/viewer/node_modules" ]; then
+    echo "setup: viewer npm packages present"
+  elif command -v npm >/dev/null 2>&1; then
+    echo "setup: installing the viewer's npm packages"
+    (cd "$root/viewer" && npm ci --no-audit --no-fund)
+  fi
+}
 
 missing=()
 for p in "${packages[@]}"; do
@@ -17,6 +34,7 @@ done
 
 if [ ${#missing[@]} -eq 0 ]; then
   echo "setup: all ${#packages[@]} packages present"
+  install_viewer_deps
   exit 0
 fi
 
@@ -26,3 +44,4 @@ sudo_cmd=()
 export DEBIAN_FRONTEND=noninteractive
 "${sudo_cmd[@]}" apt-get update -q
 "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
+install_viewer_deps
