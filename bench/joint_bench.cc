@@ -34,6 +34,7 @@
 #include "u4d/io/poses.h"
 #include "u4d/joint/frame_setup.h"
 #include "u4d/joint/joint_view.h"
+#include "u4d/joint/truth_inputs.h"
 #include "u4d/synth/generate.h"
 #include "u4d/util/check.h"
 #include "u4d/util/timer.h"
@@ -89,60 +90,16 @@ Args ParseArgs(int argc, char** argv) {
   return a;
 }
 
-InstanceMask AsPersons(const cv::Mat& ids) {
-  InstanceMask mask;
-  mask.ids = ids;
-  double max_id = 0;
-  cv::minMaxLoc(ids, nullptr, &max_id);
-  for (int id = 1; id <= static_cast<int>(max_id); ++id)
-    if (cv::countNonZero(ids == id) > 0) mask.instances.push_back({id, "person", 1.0});
-  return mask;
-}
-
-struct Truth {
-  InstanceMask instances;
-  cv::Mat depth, flow, flow_valid;
-};
-
-Truth ReadTruth(const Capture& capture, int view, int frame) {
-  const std::string& name = capture.views[view].name;
-  Truth t;
-  t.instances = ReadInstanceMask(capture.root / layout::GtInstances(name, frame),
-                                 capture.root / layout::GtInstancesInfo(name, frame));
-  t.depth = ReadPfm(capture.root / layout::GtDepth(name, frame));
-  t.flow = ReadFlo(capture.root / layout::GtFlow(name, frame));
-  t.flow_valid = ReadMaskImage(capture.root / layout::GtFlowValid(name, frame));
-  return t;
-}
-
 // The truth at the working resolution (nearest neighbour; flow scaled).
-Truth ScaleTruth(const Truth& t, const cv::Size& size, double scale) {
+ViewTruth ScaleTruth(const ViewTruth& t, const cv::Size& size, double scale) {
   if (t.depth.size() == size) return t;
-  Truth s = t;
+  ViewTruth s = t;
   cv::resize(t.instances.ids, s.instances.ids, size, 0, 0, cv::INTER_NEAREST);
   cv::resize(t.depth, s.depth, size, 0, 0, cv::INTER_NEAREST);
   cv::resize(t.flow, s.flow, size, 0, 0, cv::INTER_NEAREST);
   s.flow *= scale;
   cv::resize(t.flow_valid, s.flow_valid, size, 0, 0, cv::INTER_NEAREST);
   return s;
-}
-
-// GT flow at random GT-valid person pixels (full resolution), as in joint_view_test.cc.
-std::vector<SparseMotion> SparseFromTruth(const Truth& t, int count, uint64_t seed) {
-  std::vector<cv::Point> candidates;
-  for (int y = 0; y < t.flow.rows; ++y)
-    for (int x = 0; x < t.flow.cols; ++x)
-      if (t.instances.ids.at<uint16_t>(y, x) > 0 && t.flow_valid.at<uint8_t>(y, x))
-        candidates.push_back({x, y});
-  std::mt19937_64 rng(seed);
-  std::shuffle(candidates.begin(), candidates.end(), rng);
-  std::vector<SparseMotion> sparse;
-  for (int i = 0; i < std::min<int>(count, candidates.size()); ++i) {
-    const cv::Vec2f f = t.flow.at<cv::Vec2f>(candidates[i]);
-    sparse.push_back({Eigen::Vector2d(candidates[i].x, candidates[i].y),
-                      Eigen::Vector2d(f[0], f[1]), t.instances.ids.at<uint16_t>(candidates[i])});
-  }
-  return sparse;
 }
 
 // Everything measured for one method.
@@ -214,10 +171,10 @@ int main(int argc, char** argv) try {
 
   for (int frame = 1; frame + 1 < capture.num_frames; ++frame) {
     JointFrameData data = ReadJointFrameData(capture, &reader, frame, poses);
-    std::vector<Truth> truth;
+    std::vector<ViewTruth> truth;
     for (int v = 0; v < capture.NumViews(); ++v) {
-      truth.push_back(ReadTruth(capture, v, frame));
-      data.sparse[v] = SparseFromTruth(truth.back(), args.sparse, 11 + v + 100 * frame);
+      truth.push_back(ReadViewTruth(capture, v, frame));
+      data.sparse[v] = SparseMotionsFromTruth(truth.back(), args.sparse, 11 + v + 100 * frame);
     }
     const std::vector<JointViewInput> inputs = MakeJointViewInputs(data, setup, &scale);
     JointViewOptions options;
@@ -228,13 +185,13 @@ int main(int argc, char** argv) try {
       const JointViewInput& in = inputs[v];
       if (in.objects.empty()) continue;
       ++solved_views;
-      const Truth t = ScaleTruth(truth[v], in.initial_labels.size(), scale);
+      const ViewTruth t = ScaleTruth(truth[v], in.initial_labels.size(), scale);
       const cv::Mat people = t.instances.ids > 0;
       const std::string ctx = fmt::format("frame {} view {}", frame, v);
       auto add_seg = [&](const std::string& m, const cv::Mat& labels, double seconds) {
         Stats& s = stats[m];
         const eval::InstanceSegResult r =
-            eval::EvaluateInstances(AsPersons(labels), t.instances, seg_options, ctx);
+            eval::EvaluateInstances(PersonInstances(labels), t.instances, seg_options, ctx);
         s.seg.Add(r);
         s.has_seg = true;
         s.seconds += seconds;

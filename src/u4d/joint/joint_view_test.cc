@@ -12,58 +12,12 @@
 #include "u4d/io/layout.h"
 #include "u4d/io/poses.h"
 #include "u4d/joint/frame_setup.h"
+#include "u4d/joint/truth_inputs.h"
 #include "u4d/synth/generate.h"
 #include "u4d/util/check.h"
 
 namespace u4d {
 namespace {
-
-InstanceMask AsPersons(const cv::Mat& ids) {
-  InstanceMask mask;
-  mask.ids = ids;
-  double max_id = 0;
-  cv::minMaxLoc(ids, nullptr, &max_id);
-  for (int id = 1; id <= static_cast<int>(max_id); ++id)
-    if (cv::countNonZero(ids == id) > 0) mask.instances.push_back({id, "person", 1.0});
-  return mask;
-}
-
-// The ground truth of one view and frame.
-struct Truth {
-  InstanceMask instances;
-  cv::Mat depth, flow, flow_valid;
-};
-
-Truth ReadTruth(const Capture& capture, int view, int frame) {
-  const std::string& name = capture.views[view].name;
-  Truth t;
-  t.instances = ReadInstanceMask(capture.root / layout::GtInstances(name, frame),
-                                 capture.root / layout::GtInstancesInfo(name, frame));
-  t.depth = ReadPfm(capture.root / layout::GtDepth(name, frame));
-  t.flow = ReadFlo(capture.root / layout::GtFlow(name, frame));
-  t.flow_valid = ReadMaskImage(capture.root / layout::GtFlowValid(name, frame));
-  return t;
-}
-
-// Sparse correspondences standing in for the temporal tracks: GT flow at
-// random GT-valid person pixels (the tracks themselves are measured in
-// features/temporal_tracks_test.cc, precision 0.98).
-std::vector<SparseMotion> SparseFromTruth(const Truth& t, int count, uint64_t seed) {
-  std::vector<cv::Point> candidates;
-  for (int y = 0; y < t.flow.rows; ++y)
-    for (int x = 0; x < t.flow.cols; ++x)
-      if (t.instances.ids.at<uint16_t>(y, x) > 0 && t.flow_valid.at<uint8_t>(y, x))
-        candidates.push_back({x, y});
-  std::mt19937_64 rng(seed);
-  std::shuffle(candidates.begin(), candidates.end(), rng);
-  std::vector<SparseMotion> sparse;
-  for (int i = 0; i < std::min<int>(count, candidates.size()); ++i) {
-    const cv::Vec2f f = t.flow.at<cv::Vec2f>(candidates[i]);
-    sparse.push_back({Eigen::Vector2d(candidates[i].x, candidates[i].y),
-                      Eigen::Vector2d(f[0], f[1]), t.instances.ids.at<uint16_t>(candidates[i])});
-  }
-  return sparse;
-}
 
 class JointViewSynthTest : public ::testing::Test {
  protected:
@@ -87,10 +41,12 @@ TEST_F(JointViewSynthTest, EnergyDecreasesAndImprovesLabelsDepthAndFlow) {
   for (int f = 0; f < capture.num_frames; ++f)
     poses[f] = ReadPoses3d(capture.root / layout::GtJoints3d(f));
   JointFrameData data = ReadJointFrameData(capture, &reader, frame, poses);
-  std::vector<Truth> truth;
+  std::vector<ViewTruth> truth;
+  // GT sparse correspondences stand in for the temporal tracks (measured in
+  // features/temporal_tracks_test.cc, precision 0.98).
   for (int v = 0; v < capture.NumViews(); ++v) {
-    truth.push_back(ReadTruth(capture, v, frame));
-    data.sparse[v] = SparseFromTruth(truth.back(), 150, 11 + v);
+    truth.push_back(ReadViewTruth(capture, v, frame));
+    data.sparse[v] = SparseMotionsFromTruth(truth.back(), 150, 11 + v);
   }
   double scale = 0;
   const std::vector<JointViewInput> inputs = MakeJointViewInputs(data, {}, &scale);
@@ -111,11 +67,11 @@ TEST_F(JointViewSynthTest, EnergyDecreasesAndImprovesLabelsDepthAndFlow) {
     for (size_t i = 1; i < r.energy_trace.size(); ++i)
       EXPECT_LE(r.energy_trace[i].energy, r.energy_trace[i - 1].energy + 1e-6)
           << "view " << v << " block " << r.energy_trace[i].block;
-    const Truth& t = truth[v];
-    const auto initial =
-        eval::EvaluateInstances(AsPersons(in.initial_labels), t.instances, seg_options, "initial");
+    const ViewTruth& t = truth[v];
+    const auto initial = eval::EvaluateInstances(PersonInstances(in.initial_labels), t.instances,
+                                                 seg_options, "initial");
     const auto refined =
-        eval::EvaluateInstances(AsPersons(r.labels), t.instances, seg_options, "refined");
+        eval::EvaluateInstances(PersonInstances(r.labels), t.instances, seg_options, "refined");
     iou_initial += initial.mean_instance_iou;
     iou_refined += refined.mean_instance_iou;
     ++views;

@@ -1,0 +1,49 @@
+#include "u4d/joint/truth_inputs.h"
+
+#include <algorithm>
+#include <random>
+
+#include "u4d/io/image_io.h"
+#include "u4d/io/layout.h"
+
+namespace u4d {
+
+ViewTruth ReadViewTruth(const Capture& capture, int view, int frame) {
+  const std::string& name = capture.views.at(view).name;
+  ViewTruth t;
+  t.instances = ReadInstanceMask(capture.root / layout::GtInstances(name, frame),
+                                 capture.root / layout::GtInstancesInfo(name, frame));
+  t.depth = ReadPfm(capture.root / layout::GtDepth(name, frame));
+  t.flow = ReadFlo(capture.root / layout::GtFlow(name, frame));
+  t.flow_valid = ReadMaskImage(capture.root / layout::GtFlowValid(name, frame));
+  return t;
+}
+
+InstanceMask PersonInstances(const cv::Mat& ids) {
+  InstanceMask mask;
+  mask.ids = ids;
+  double max_id = 0;
+  cv::minMaxLoc(ids, nullptr, &max_id);
+  for (int id = 1; id <= static_cast<int>(max_id); ++id)
+    if (cv::countNonZero(ids == id) > 0) mask.instances.push_back({id, "person", 1.0});
+  return mask;
+}
+
+std::vector<SparseMotion> SparseMotionsFromTruth(const ViewTruth& t, int count, uint64_t seed) {
+  std::vector<cv::Point> candidates;
+  for (int y = 0; y < t.flow.rows; ++y)
+    for (int x = 0; x < t.flow.cols; ++x)
+      if (t.instances.ids.at<uint16_t>(y, x) > 0 && t.flow_valid.at<uint8_t>(y, x))
+        candidates.push_back({x, y});
+  std::mt19937_64 rng(seed);
+  std::shuffle(candidates.begin(), candidates.end(), rng);
+  std::vector<SparseMotion> sparse;
+  for (int i = 0; i < std::min<int>(count, static_cast<int>(candidates.size())); ++i) {
+    const cv::Vec2f f = t.flow.at<cv::Vec2f>(candidates[i]);
+    sparse.push_back({Eigen::Vector2d(candidates[i].x, candidates[i].y),
+                      Eigen::Vector2d(f[0], f[1]), t.instances.ids.at<uint16_t>(candidates[i])});
+  }
+  return sparse;
+}
+
+}  // namespace u4d

@@ -1,0 +1,31 @@
+// Ground truth of a synthetic capture in the forms the joint optimisation's
+// tests and benchmarks compare against or stand in for (the stages that
+// produce these inputs are measured on their own).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "u4d/io/capture.h"
+#include "u4d/io/instance_mask.h"
+#include "u4d/joint/motion_labels.h"
+
+namespace u4d {
+
+// GT maps of one view and frame (layout.h Gt*). Throws naming a missing file.
+struct ViewTruth {
+  InstanceMask instances;
+  cv::Mat depth, flow, flow_valid;  // CV_32F z, CV_32FC2, CV_8U
+};
+ViewTruth ReadViewTruth(const Capture& capture, int view, int frame);
+
+// An id image (CV_16U) as an InstanceMask whose instances are all "person".
+InstanceMask PersonInstances(const cv::Mat& ids);
+
+// `count` sparse correspondences from the GT flow at random GT-valid person
+// pixels (deterministic in `seed`): a stand-in for the temporal tracks.
+std::vector<SparseMotion> SparseMotionsFromTruth(const ViewTruth& truth, int count, uint64_t seed);
+
+}  // namespace u4d
