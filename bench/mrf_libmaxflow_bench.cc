@@ -10,40 +10,15 @@
 
 #include <graph.h>  // libmaxflow: Graph<captype, tcaptype, flowtype>
 
+#include "mrf_bench_graph.h"
 #include "u4d/mrf/max_flow.h"
 #include "u4d/util/timer.h"
 
 namespace {
 
-constexpr int kWidth = 480, kHeight = 270;
-
-u4d::mrf::FlowGraph StereoGraph(int connectivity) {  // as in mrf_bench.cc
-  std::mt19937 rng(1);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  u4d::mrf::FlowGraph g(kWidth * kHeight);
-  for (int y = 0; y < kHeight; ++y) {
-    for (int x = 0; x < kWidth; ++x) {
-      const double d = std::clamp(
-          10 + 6 * std::sin(x / 60.0) + 3 * std::cos(y / 45.0) + (x > 240 ? 10 : 0), 0.0, 31.0);
-      const double c0 = std::min(std::abs(d - 12), 5.0) + 2 * u(rng);
-      const double c1 = std::min(std::abs(d - 20), 5.0) + 2 * u(rng);
-      g.AddTerminalWeights(y * kWidth + x, std::max(c1 - c0, 0.0), std::max(c0 - c1, 0.0));
-    }
-  }
-  const int dx[] = {1, -1, 0, 1}, dy[] = {0, 1, 1, 1};
-  for (int y = 0; y < kHeight; ++y) {
-    for (int x = 0; x < kWidth; ++x) {
-      for (int k = 0; k < 4; ++k) {
-        if (connectivity == 4 && (k == 1 || k == 3)) continue;
-        const int qx = x + dx[k], qy = y + dy[k];
-        if (qx < 0 || qx >= kWidth || qy >= kHeight) continue;
-        const double w = (k == 1 || k == 3 ? 0.7 : 1.0) * (0.5 + 1.5 * u(rng));
-        g.AddEdge(y * kWidth + x, qy * kWidth + qx, w, w);
-      }
-    }
-  }
-  return g;
-}
+using u4d::mrf::bench::kHeight;
+using u4d::mrf::bench::kWidth;
+using u4d::mrf::bench::StereoGraph;
 
 }  // namespace
 
