@@ -391,6 +391,7 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
 
   JointViewResult result;
   result.roi = roi;
+  result.plane_sweep_depth = wta_depth;
   result.num_depth_labels = pr.unknown + 1;
   result.num_motion_labels = num_motions;
   result.energy_trace.push_back({"init", pr.Energy(), timer.Seconds()});

@@ -100,6 +100,9 @@ struct JointViewResult {
   cv::Mat depth;   // CV_32F z (0 = background or unknown)
   cv::Mat flow;    // CV_32FC2 forward flow t -> t+1 (pixels, working resolution)
   cv::Mat roi;     // CV_8U the optimised pixels
+  // CV_32F winner-take-all of E_d over the same depth labels and roi: the
+  // plane-sweep baseline, computed anyway for the cross-view flow term.
+  cv::Mat plane_sweep_depth;
   std::vector<EnergyStep> energy_trace;
   int num_depth_labels = 0, num_motion_labels = 0;
   double seconds = 0;

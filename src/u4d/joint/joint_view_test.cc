@@ -77,12 +77,7 @@ TEST_F(JointViewSynthTest, EnergyDecreasesAndImprovesLabelsDepthAndFlow) {
     ++views;
     const cv::Mat people = t.instances.ids > 0;
     depth_refined.Add(eval::EvaluateDepth(r.depth, t.depth, people, "refined depth"));
-    double near = 1e9, far = 0;
-    for (const JointObject& o : in.objects)
-      near = std::min(near, o.depth_near), far = std::max(far, o.depth_far);
-    const DepthCostVolume volume =
-        ComputeDepthCostVolume(in.cameras_t, in.images_t, v, r.roi, near, far, options.depth);
-    depth_wta.Add(eval::EvaluateDepth(WinnerTakeAllDepth(volume, r.roi), t.depth, people, "wta"));
+    depth_wta.Add(eval::EvaluateDepth(r.plane_sweep_depth, t.depth, people, "plane sweep"));
     flow_refined.Add(eval::EvaluateFlow(r.flow, t.flow, t.flow_valid, people, "refined flow"));
     flow_zero.Add(eval::EvaluateFlow(cv::Mat::zeros(t.flow.size(), CV_32FC2), t.flow, t.flow_valid,
                                      people, "zero flow"));
