@@ -32,6 +32,7 @@ struct Problem {
   const Camera* camera_t = nullptr;
   const Camera* camera_t1 = nullptr;
   mrf::GridGraph grid;
+  std::vector<std::pair<int, int>> pairs;  // mrf::NeighbourPairs(grid)
 
   std::vector<float> label_unary;              // [p * num_labels + l], weighted
   std::array<std::vector<float>, 4> contrast;  // λ_c E_c per forward direction
@@ -107,18 +108,8 @@ double Problem::Energy() const {
     if (!grid.IsActive(p)) continue;
     e += LabelUnary(p, l[p]) + DepthUnary(p, d[p], m[p]) + MotionUnary(p, m[p], d[p]);
   }
-  const int offsets[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      const int p = y * width + x;
-      for (const auto& off : offsets) {
-        const int qx = x + off[0], qy = y + off[1];
-        if (qx < 0 || qx >= width || qy >= height) continue;
-        const int q = qy * width + qx;
-        if (!grid.IsActive(p) && !grid.IsActive(q)) continue;
-        e += Pair(p, q, l[p], l[q], d[p], d[q], m[p], m[q]);
-      }
-    }
+  for (const auto& [p, q] : pairs)
+    if (grid.IsActive(p) || grid.IsActive(q)) e += Pair(p, q, l[p], l[q], d[p], d[q], m[p], m[q]);
   return e;
 }
 
@@ -285,7 +276,8 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
   });
 
   // ---- Pairwise weights: E_c and the E_r weights.
-  const std::vector<std::pair<int, int>> pairs = mrf::NeighbourPairs(pr.grid);
+  pr.pairs = mrf::NeighbourPairs(pr.grid);
+  const std::vector<std::pair<int, int>>& pairs = pr.pairs;
   const std::vector<float> colour = ContrastWeights(
       in.images_t[v].isContinuous() ? in.images_t[v] : in.images_t[v].clone(), pairs);
   const std::vector<float> sem_contrast = SemanticContrastWeights(semantic, pairs);
