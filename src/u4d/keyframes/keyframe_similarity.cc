@@ -238,12 +238,14 @@ KeyframeTerms Terms(const KeyframeObservations& obs, const Prepared& prep, int v
                     const KeyframeOptions& options) {
   KeyframeTerms t;
   if (i == j) return t;
-  // M: Dice overlap of the tracks present at i and at j (index lists are sorted).
-  const auto& ti = prep.tracks_at[view][i];
-  const auto& tj = prep.tracks_at[view][j];
-  std::vector<int> both;
-  std::set_intersection(ti.begin(), ti.end(), tj.begin(), tj.end(), std::back_inserter(both));
-  t.m = ti.size() + tj.size() > 0 ? 1.0 - 2.0 * both.size() / (ti.size() + tj.size()) : 1.0;
+  if (options.use_correspondence) {
+    // M: Dice overlap of the tracks present at i and at j (index lists are sorted).
+    const auto& ti = prep.tracks_at[view][i];
+    const auto& tj = prep.tracks_at[view][j];
+    std::vector<int> both;
+    std::set_intersection(ti.begin(), ti.end(), tj.begin(), tj.end(), std::back_inserter(both));
+    t.m = ti.size() + tj.size() > 0 ? 1.0 - 2.0 * both.size() / (ti.size() + tj.size()) : 1.0;
+  }
   const auto& oi = prep.objects[view][i];
   const auto& oj = prep.objects[view][j];
   t.l = SemanticTerm(oi, oj);
@@ -254,13 +256,14 @@ KeyframeTerms Terms(const KeyframeObservations& obs, const Prepared& prep, int v
     for (const auto& [p, q] : pairs) {
       d += std::min(1.0, (oi[p].centroid - oj[q].centroid).norm() /
                              (options.distance_scale * prep.diagonal[view]));
-      s += 1.0 - AlignedIoU(oi[p], oj[q]);
+      if (options.use_shape) s += 1.0 - AlignedIoU(oi[p], oj[q]);
     }
     const double unmatched = static_cast<double>(slots - pairs.size());
     t.d = (d + unmatched) / slots;
-    t.i = (s + unmatched) / slots;
+    t.i = options.use_shape ? (s + unmatched) / slots : 0.0;
   }
-  t.p = obs.poses.empty() ? 0.0 : PoseTerm(obs.poses[i], obs.poses[j], options);
+  t.p =
+      obs.poses.empty() || !options.use_pose ? 0.0 : PoseTerm(obs.poses[i], obs.poses[j], options);
   return t;
 }
 
@@ -281,64 +284,195 @@ KeyframeTerms KeyframeTermsAt(const KeyframeObservations& obs, int view, int i, 
   return Terms(obs, Prepare(obs), view, i, j, options);
 }
 
-Eigen::MatrixXd KeyframeSimilarityMatrix(const KeyframeObservations& obs,
-                                         const KeyframeOptions& options) {
+KeyframeTermMatrices ComputeKeyframeTermMatrices(const KeyframeObservations& obs,
+                                                 const KeyframeOptions& options) {
   options.Check();
   const Prepared prep = Prepare(obs);
   const int n = obs.num_frames;
-  Eigen::MatrixXd ks = Eigen::MatrixXd::Identity(n, n);
-  const double norm = 1.0 / (options.NumTerms() * obs.NumViews());
-  for (int i = 0; i < n; ++i) {
-    for (int j = i + 1; j < n; ++j) {
-      double sum = 0;
-      for (int v = 0; v < obs.NumViews(); ++v)
-        sum += Sum(Terms(obs, prep, v, i, j, options), options);
-      ks(i, j) = ks(j, i) = 1.0 - norm * sum;
+  KeyframeTermMatrices out;
+  for (Eigen::MatrixXd* m : {&out.m, &out.l, &out.d, &out.p, &out.i}) m->setZero(n, n);
+  const double w = 1.0 / obs.NumViews();
+  for (int a = 0; a < n; ++a) {
+    for (int b = a + 1; b < n; ++b) {
+      KeyframeTerms sum;
+      for (int v = 0; v < obs.NumViews(); ++v) {
+        const KeyframeTerms t = Terms(obs, prep, v, a, b, options);
+        sum.m += t.m, sum.l += t.l, sum.d += t.d, sum.p += t.p, sum.i += t.i;
+      }
+      out.m(a, b) = out.m(b, a) = options.use_correspondence ? w * sum.m : 0;
+      out.l(a, b) = out.l(b, a) = options.use_semantic ? w * sum.l : 0;
+      out.d(a, b) = out.d(b, a) = options.use_distance ? w * sum.d : 0;
+      out.p(a, b) = out.p(b, a) = options.use_pose ? w * sum.p : 0;
+      out.i(a, b) = out.i(b, a) = options.use_shape ? w * sum.i : 0;
     }
   }
+  return out;
+}
+
+Eigen::MatrixXd CombineKeyframeTerms(const KeyframeTermMatrices& t,
+                                     const KeyframeOptions& options) {
+  options.Check();
+  const Eigen::Index n = t.m.rows();
+  for (const Eigen::MatrixXd* m : {&t.m, &t.l, &t.d, &t.p, &t.i}) {
+    U4D_CHECK(m->rows() == n && m->cols() == n,
+              "CombineKeyframeTerms: term matrices must all be {}x{}, got {}x{}", n, n, m->rows(),
+              m->cols());
+  }
+  Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(n, n);
+  if (options.use_correspondence) sum += t.m;
+  if (options.use_semantic) sum += t.l;
+  if (options.use_distance) sum += t.d;
+  if (options.use_pose) sum += t.p;
+  if (options.use_shape) sum += t.i;
+  Eigen::MatrixXd ks = Eigen::MatrixXd::Ones(n, n) - sum / options.NumTerms();
+  ks.diagonal().setOnes();
   return ks;
 }
 
-KeyframeSelection SelectKeyframes(const Eigen::MatrixXd& similarity, double threshold) {
+Eigen::MatrixXd KeyframeSimilarityMatrix(const KeyframeObservations& obs,
+                                         const KeyframeOptions& options) {
+  return CombineKeyframeTerms(ComputeKeyframeTermMatrices(obs, options), options);
+}
+
+void KeyframeSelectOptions::Check() const {
+  U4D_CHECK(threshold >= 0 && threshold <= 1,
+            "KeyframeSelectOptions.threshold must be in [0, 1], got {}", threshold);
+  U4D_CHECK(medoid_rounds >= 0, "KeyframeSelectOptions.medoid_rounds must be >= 0, got {}",
+            medoid_rounds);
+}
+
+namespace {
+
+// Per frame: the key-frame it is most similar to among those it is similar
+// to (a key-frame is its own; ties: the nearest in time, then the earlier);
+// -1 when it is similar to none.
+std::vector<int> AssignFrames(const Eigen::MatrixXd& ks, double threshold,
+                              const std::vector<int>& keyframes) {
+  const int n = static_cast<int>(ks.rows());
+  std::vector<int> own(n, -1);
+  for (int t = 0; t < n; ++t) {
+    double best = -1;
+    for (int k : keyframes) {
+      if (k != t && !(ks(k, t) > threshold)) continue;
+      const double v = k == t ? 2.0 : ks(k, t);
+      const int cur = own[t];
+      if (v > best || (v == best && std::abs(k - t) < std::abs(cur - t))) best = v, own[t] = k;
+    }
+  }
+  return own;
+}
+
+std::vector<int> GreedyCover(const Eigen::MatrixXd& ks, const KeyframeSelectOptions& o) {
+  const int n = static_cast<int>(ks.rows());
+  auto similar = [&](int a, int b) { return a == b || ks(a, b) > o.threshold; };
+  auto value = [&](int a, int b) { return a == b ? 1.0 : ks(a, b); };
+  std::vector<bool> covered(n, false);
+  std::vector<double> best(n, o.threshold);  // a frame's similarity to its best key-frame
+  std::vector<int> keyframes;
+  int left = n;
+  while (left > 0) {
+    int pick = -1;
+    double pick_gain = -1;
+    for (int k = 0; k < n; ++k) {
+      int fresh = 0;
+      double gain = 0;
+      for (int t = 0; t < n; ++t) {
+        if (!similar(k, t)) continue;
+        fresh += !covered[t];
+        gain +=
+            o.cover == KeyframeCover::kCount ? !covered[t] : std::max(0.0, value(k, t) - best[t]);
+      }
+      // Only a frame that covers a new frame may be picked, so the loop ends
+      // after at most n picks and never adds a key-frame that covers nothing.
+      if (fresh > 0 && gain > pick_gain) pick = k, pick_gain = gain;
+    }
+    U4D_ASSERT(pick >= 0);
+    keyframes.push_back(pick);
+    for (int t = 0; t < n; ++t) {
+      if (!similar(pick, t)) continue;
+      if (!covered[t]) covered[t] = true, --left;
+      best[t] = std::max(best[t], value(pick, t));
+    }
+  }
+  return keyframes;
+}
+
+// Moves each key-frame to the medoid of its members: the frame similar to
+// every member with the largest summed similarity to them (the current
+// key-frame wins ties, so the loop cannot cycle on ties), and drops
+// key-frames left alone. Every frame stays covered: a member is similar to
+// its cluster's new key-frame.
+std::vector<int> MedoidRefinement(const Eigen::MatrixXd& ks, const KeyframeSelectOptions& o,
+                                  std::vector<int> keyframes) {
+  const int n = static_cast<int>(ks.rows());
+  auto similar = [&](int a, int b) { return a == b || ks(a, b) > o.threshold; };
+  auto value = [&](int a, int b) { return a == b ? 1.0 : ks(a, b); };
+  for (int round = 0; round < o.medoid_rounds; ++round) {
+    const std::vector<int> own = AssignFrames(ks, o.threshold, keyframes);
+    bool changed = false;
+    for (int& k : keyframes) {
+      std::vector<int> members;
+      for (int t = 0; t < n; ++t) {
+        if (own[t] == k) members.push_back(t);
+      }
+      auto score = [&](int c) {
+        double sum = 0;
+        for (int m : members) {
+          if (!similar(c, m)) return -1.0;
+          sum += value(c, m);
+        }
+        return sum;
+      };
+      int pick = k;
+      double pick_score = score(k);
+      for (int c = 0; c < n; ++c) {
+        if (std::find(keyframes.begin(), keyframes.end(), c) != keyframes.end()) continue;
+        const double sc = score(c);
+        if (sc > pick_score + 1e-12) pick = c, pick_score = sc;
+      }
+      if (pick != k) k = pick, changed = true;
+    }
+    // A key-frame left with no member but itself (the others taken by closer
+    // key-frames) is dropped when it is similar to a key-frame that has other
+    // members (never dropped, so the frame stays covered).
+    const std::vector<int> after = AssignFrames(ks, o.threshold, keyframes);
+    std::vector<int> count(n, 0);
+    for (int t = 0; t < n; ++t) ++count[after[t]];
+    std::vector<int> kept;
+    for (int k : keyframes) {
+      bool redundant = count[k] == 1;
+      if (redundant) {
+        redundant = false;
+        for (int other : keyframes)
+          redundant |= other != k && count[other] > 1 && similar(other, k);
+      }
+      if (!redundant) kept.push_back(k);
+    }
+    changed |= kept.size() != keyframes.size();
+    keyframes = std::move(kept);
+    if (!changed) break;
+  }
+  return keyframes;
+}
+
+}  // namespace
+
+KeyframeSelection SelectKeyframes(const Eigen::MatrixXd& similarity,
+                                  const KeyframeSelectOptions& options) {
+  options.Check();
   const int n = static_cast<int>(similarity.rows());
   U4D_CHECK(n >= 1 && similarity.cols() == n,
             "SelectKeyframes: similarity must be square and non-empty, got {}x{}",
             similarity.rows(), similarity.cols());
-  U4D_CHECK(threshold >= 0 && threshold <= 1, "SelectKeyframes: threshold {} outside [0, 1]",
-            threshold);
-  auto similar = [&](int a, int b) { return a == b || similarity(a, b) > threshold; };
   KeyframeSelection s;
-  s.threshold = threshold;
+  s.threshold = options.threshold;
   s.similarity = similarity;
-  std::vector<bool> covered(n, false);
-  int left = n;
-  while (left > 0) {
-    int best = -1, best_gain = -1;
-    for (int k = 0; k < n; ++k) {
-      int gain = 0;
-      for (int t = 0; t < n; ++t) gain += !covered[t] && similar(k, t);
-      if (gain > best_gain) best = k, best_gain = gain;
-    }
-    s.keyframes.push_back(best);
-    for (int t = 0; t < n; ++t) {
-      if (!covered[t] && similar(best, t)) covered[t] = true, --left;
-    }
-  }
+  s.keyframes = MedoidRefinement(similarity, options, GreedyCover(similarity, options));
   std::sort(s.keyframes.begin(), s.keyframes.end());
-  s.frame_keyframe.assign(n, -1);
+  s.frame_keyframe = AssignFrames(similarity, options.threshold, s.keyframes);
   s.frame_segment.assign(n, 0);
   s.segment_lengths.assign(s.keyframes.size(), 0);
   for (int t = 0; t < n; ++t) {
-    double best_ks = -1;
-    for (int k : s.keyframes) {
-      if (!similar(k, t)) continue;
-      const double ks = k == t ? 2.0 : similarity(k, t);
-      const int cur = s.frame_keyframe[t];
-      if (ks > best_ks || (ks == best_ks && std::abs(k - t) < std::abs(cur - t))) {
-        best_ks = ks;
-        s.frame_keyframe[t] = k;
-      }
-    }
     U4D_ASSERT(s.frame_keyframe[t] >= 0);
     int seg = 0;
     for (size_t q = 0; q < s.keyframes.size(); ++q) {
@@ -348,6 +482,12 @@ KeyframeSelection SelectKeyframes(const Eigen::MatrixXd& similarity, double thre
     ++s.segment_lengths[seg];
   }
   return s;
+}
+
+KeyframeSelection SelectKeyframes(const Eigen::MatrixXd& similarity, double threshold) {
+  KeyframeSelectOptions o;
+  o.threshold = threshold;
+  return SelectKeyframes(similarity, o);
 }
 
 void WriteKeyframes(const fs::path& path, const KeyframeSelection& s) {

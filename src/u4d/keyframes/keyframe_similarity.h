@@ -20,12 +20,14 @@
 // this is exactly the paper's equation. KS_ii = 1.
 //
 // Selection: frames i, j are similar when KS_ij > threshold (0.75, the
-// paper's). Greedy cover: repeatedly the frame similar to the most frames not
-// yet covered (ties: the earlier frame) becomes a key-frame, until every
-// frame is covered. Each frame is assigned to the key-frame it is most similar
-// to among those it is similar to (its "own" key-frame), and to the temporal
-// segment s with K_s <= t < K_{s+1} (frames before K_0 join segment 0); N_f^s
-// is the number of frames of segment s.
+// paper's). Greedy cover (KeyframeSelectOptions): repeatedly the frame whose
+// choice raises the frames' similarity to their best key-frame the most
+// (ties: the earlier frame) becomes a key-frame, until every frame is
+// similar to one; then each key-frame moves to the medoid of its members.
+// Each frame is assigned to the key-frame it is most similar to among those
+// it is similar to (its "own" key-frame), and to the temporal segment s with
+// K_s <= t < K_{s+1} (frames before K_0 join segment 0); N_f^s is the number
+// of frames of segment s.
 #pragma once
 
 #include <string>
@@ -89,6 +91,20 @@ KeyframeTerms KeyframeTermsAt(const KeyframeObservations& obs, int view, int i, 
 Eigen::MatrixXd KeyframeSimilarityMatrix(const KeyframeObservations& obs,
                                          const KeyframeOptions& options = {});
 
+// Each term summed over the views, divided by N_v: symmetric N_f x N_f
+// matrices with zeros on the diagonal. A term switched off in `options` is
+// not computed (its matrix is zero). For ablations: KS for any subset of the
+// terms is CombineKeyframeTerms of one computation.
+struct KeyframeTermMatrices {
+  Eigen::MatrixXd m, l, d, p, i;
+};
+KeyframeTermMatrices ComputeKeyframeTermMatrices(const KeyframeObservations& obs,
+                                                 const KeyframeOptions& options = {});
+// KS = 1 - (sum of the terms switched on in `options`) / options.NumTerms(),
+// ones on the diagonal; equal to KeyframeSimilarityMatrix.
+Eigen::MatrixXd CombineKeyframeTerms(const KeyframeTermMatrices& terms,
+                                     const KeyframeOptions& options = {});
+
 struct KeyframeSelection {
   double threshold = 0.75;
   std::vector<int> keyframes;        // increasing frame indices
@@ -98,8 +114,38 @@ struct KeyframeSelection {
   Eigen::MatrixXd similarity;        // KS
 };
 
-// Greedy cover of the frames by key-frames (see the top of this file).
-// Throws when `similarity` is not square or empty.
+// How key-frames are chosen among the frames (docs/keyframes.md, "Key-frame
+// selection", has the measurements behind the default).
+enum class KeyframeCover {
+  // Greedy set cover by count: the frame similar to the most uncovered frames
+  // first. Kept for comparison: it picks "hub" frames similar to many frames
+  // just above the threshold, whose members are not alike (measured).
+  kCount,
+  // Greedy facility location: the frame whose choice raises the members'
+  // similarity to their key-frame the most, sum_t max(0, KS_kt - best_t),
+  // where best_t is the threshold for a frame not yet covered; until every
+  // frame is covered. The default.
+  kSimilarity,
+};
+
+struct KeyframeSelectOptions {
+  double threshold = 0.75;  // frames are similar when KS > threshold (paper: 0.75)
+  KeyframeCover cover = KeyframeCover::kSimilarity;  // how key-frames are picked
+  // After the cover, each key-frame is moved to the medoid of its members
+  // (the frame similar to all of them with the largest summed KS to them),
+  // a key-frame left alone and similar to another key-frame is dropped, and
+  // the frames are re-assigned, until nothing changes (at most this many
+  // rounds; 0 = no refinement).
+  int medoid_rounds = 10;
+
+  void Check() const;  // throws on a threshold outside [0, 1] or negative rounds
+};
+
+// Key-frames covering every frame (see the top of this file and
+// KeyframeSelectOptions). Throws when `similarity` is not square or empty.
+KeyframeSelection SelectKeyframes(const Eigen::MatrixXd& similarity,
+                                  const KeyframeSelectOptions& options);
+// The same with the default options and the given threshold.
 KeyframeSelection SelectKeyframes(const Eigen::MatrixXd& similarity, double threshold = 0.75);
 
 // keyframes.json: {"format": "u4d-keyframes", "threshold", "num_frames",

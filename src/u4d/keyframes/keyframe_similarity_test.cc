@@ -234,6 +234,41 @@ TEST(KeyframeRecurrenceTest, RecurringPoseIsSimilarDifferentPoseIsNot) {
   }
 }
 
+// A "hub" frame similar to every frame just above the threshold, and two
+// tight groups of frames (KS 0.95 inside a group, 0.5 across). The count cover
+// takes the hub (it covers the most frames) and leaves both groups under a
+// key-frame they are barely similar to; the similarity cover gives each group
+// a key-frame of its own (which also covers the hub).
+TEST(KeyframeSelectionTest, SimilarityCoverAvoidsHubFrames) {
+  const int n = 9, hub = 4;
+  Eigen::MatrixXd ks = Eigen::MatrixXd::Constant(n, n, 0.5);
+  for (int a = 0; a < n; ++a) {
+    for (int b = 0; b < n; ++b) {
+      if (a == b)
+        ks(a, b) = 1;
+      else if (a == hub || b == hub)
+        ks(a, b) = 0.76;
+      else if ((a < hub) == (b < hub))
+        ks(a, b) = 0.95;
+    }
+  }
+  KeyframeSelectOptions count;
+  count.cover = KeyframeCover::kCount;
+  count.medoid_rounds = 0;
+  EXPECT_EQ(SelectKeyframes(ks, count).keyframes, std::vector<int>{hub});
+  const KeyframeSelection sel = SelectKeyframes(ks, 0.75);
+  // One key-frame per group; the hub is similar to both and joins one.
+  ASSERT_EQ(sel.keyframes.size(), 2u);
+  EXPECT_LT(sel.keyframes[0], hub);
+  EXPECT_GT(sel.keyframes[1], hub);
+  for (int t = 0; t < n; ++t) {
+    if (t != hub) EXPECT_EQ(sel.frame_keyframe[t] < hub, t < hub) << "frame " << t;
+  }
+  KeyframeSelectOptions bad;
+  bad.medoid_rounds = -1;
+  EXPECT_THROW(SelectKeyframes(ks, bad), Error);
+}
+
 // ---- A generated handshake with GT masks, GT joints and SIFT tracks ----
 
 class KeyframeCaptureTest : public ::testing::Test {
@@ -280,6 +315,19 @@ TEST_F(KeyframeCaptureTest, SelectionCoversEveryFrameAndRoundTrips) {
     "keyframes": [5], "frame_keyframe": [0, 0], "frame_segment": [0, 0],
     "segment_lengths": [2], "similarity": [[1, 0], [0, 1]]})");
   EXPECT_THROW(ReadKeyframes(path), Error);  // key-frame 5 of 2 frames
+}
+
+// The term matrices recombine into exactly KeyframeSimilarityMatrix, for
+// every subset used by the ablation.
+TEST_F(KeyframeCaptureTest, CombinedTermsEqualTheSimilarityMatrix) {
+  const KeyframeTermMatrices terms = ComputeKeyframeTermMatrices(obs_);
+  for (int off = 0; off < 2; ++off) {
+    KeyframeOptions o;
+    o.use_shape = off == 0;
+    const double diff =
+        (CombineKeyframeTerms(terms, o) - KeyframeSimilarityMatrix(obs_, o)).cwiseAbs().maxCoeff();
+    EXPECT_LT(diff, 1e-12);
+  }
 }
 
 // Ablation: what switching off each term changes (printed; the assertion is

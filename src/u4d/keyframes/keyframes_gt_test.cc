@@ -1,40 +1,23 @@
 // Key-frames against ground truth (paper Sec. 2.1.3, "Long-term temporal
-// coherence"): on a generated handshake whose people walk (a periodic gait,
-// so body poses recur about once per gait cycle), the key-frames computed
-// from the image evidence must group frames whose GT 3D poses are alike.
+// coherence"): on a generated handshake (approach, handshake, release, turn
+// away) poses recur: the neutral stance before and after the handshake, the
+// reach and the release of the hands. The key-frames computed from KS must
+// group frames whose GT 3D poses are alike.
 //
-// GT pose distance of frames (a, b): for each person present in both
-// (gt/joints3d, matched by person_id), the mean over the 17 joints of
-// |(x_a - pelvis_a) - (x_b - pelvis_b)| (metres), averaged over the people.
+// GT pose distance of frames (a, b): GtPoseDistance (keyframe_eval.h), the
+// root-relative MPJPE of the people in gt/joints3d matched by person_id.
 #include <algorithm>
 #include <cstdio>
 
 #include <gtest/gtest.h>
 
 #include "u4d/io/layout.h"
+#include "u4d/keyframes/keyframe_eval.h"
 #include "u4d/keyframes/keyframe_similarity.h"
 #include "u4d/synth/generate.h"
 
 namespace u4d {
 namespace {
-
-double GtPoseDistance(const std::vector<Pose3d>& a, const std::vector<Pose3d>& b) {
-  double sum = 0;
-  int people = 0;
-  for (const Pose3d& pa : a) {
-    for (const Pose3d& pb : b) {
-      if (pa.person_id != pb.person_id) continue;
-      const Eigen::Vector3d ra = pa.joints[h36m17::kPelvis].head<3>();
-      const Eigen::Vector3d rb = pb.joints[h36m17::kPelvis].head<3>();
-      double d = 0;
-      for (int j = 0; j < 17; ++j)
-        d += ((pa.joints[j].head<3>() - ra) - (pb.joints[j].head<3>() - rb)).norm();
-      sum += d / 17;
-      ++people;
-    }
-  }
-  return people ? sum / people : 1e9;
-}
 
 double Median(std::vector<double> v) {
   if (v.empty()) return 0;
@@ -144,20 +127,52 @@ TEST_F(KeyframeGtTest, SimilarPairsAreCloserInGtPose) {
   EXPECT_LT(d.median_similar, d.median_dissimilar);
 }
 
-// The issue's criterion: frames assigned to a key-frame are closer in GT pose
-// to it than random frame pairs are (median member -> key-frame distance
-// below the median over all pairs; no margin: "closer than chance" is the
-// least a key-frame must achieve). DISABLED because the current selection
-// FAILS it on this capture (measured 0.051 m vs 0.041 m, docs/keyframes.md):
-// the greedy cover must keep frame 32 (the start of the walk away, the only
-// frame similar to 33-34) and, being similar to most standing frames, it
-// becomes their key-frame although their poses are 0.04-0.07 m from it.
-// Run with --gtest_also_run_disabled_tests.
-TEST_F(KeyframeGtTest, DISABLED_MembersAreCloserToTheirKeyframeThanRandomPairs) {
+// The issue's criterion: key-frames stand for frames whose poses recur.
+// Measured with means (keyframe_eval.h) on the full KS (GT masks, GT joints,
+// SIFT tracks), default selection:
+//  1. members are, on average, less than half as far in GT pose from their
+//     key-frame as random frame pairs are (0.5: a key-frame must represent
+//     its members clearly better than an arbitrary frame of the sequence
+//     would; "below chance" alone would accept a selection that barely uses
+//     the similarity);
+//  2. members are closer to their key-frame than with the same number of
+//     key-frames placed by time alone (equal temporal segments, their middle
+//     frames): the selection must gain from the image and pose evidence,
+//     not only from temporal proximity (the former count cover failed this:
+//     0.051 m vs 0.046 m, docs/keyframes.md);
+//  3. some frames are sent back to a key-frame more than the track window
+//     (10 frames) away, i.e. to an earlier occurrence of their pose, and
+//     these recurrences are closer in GT pose than random pairs (no margin:
+//     they are few, and "closer than chance" is what shows a real
+//     recurrence);
+//  4. members are closer than with the former selection (below).
+TEST_F(KeyframeGtTest, MembersAreCloserToTheirKeyframeThanRandomPairs) {
   const KeyframeObservations obs = ReadKeyframeObservations(capture_, true, tracks_);
-  const GtComparison c = Compare(SelectKeyframes(KeyframeSimilarityMatrix(obs), 0.75), gt_poses_);
-  ASSERT_GT(c.members, 0);
-  EXPECT_LT(c.median_member, c.median_all);
+  const KeyframeSelection sel = SelectKeyframes(KeyframeSimilarityMatrix(obs), 0.75);
+  Compare(sel, gt_poses_);
+  const KeyframeGtEvaluation e = EvaluateKeyframesWithGtPoses(sel, GtPoseDistanceMatrix(gt_poses_));
+  std::printf(
+      "mean GT pose distance: member -> key-frame %.4f m (%d members, max %.4f), random pairs "
+      "%.4f m (ratio %.2f), uniform temporal key-frames %.4f m, recurrences (> 10 frames) %d at "
+      "%.4f m\n",
+      e.mean_member, e.members, e.max_member, e.mean_all, e.MemberRatio(), e.mean_member_uniform,
+      e.recurring_members, e.mean_recurring);
+  ASSERT_GT(e.members, 0);
+  EXPECT_LT(e.mean_member, 0.5 * e.mean_all);
+  EXPECT_LT(e.mean_member, e.mean_member_uniform);
+  ASSERT_GT(e.recurring_members, 0);
+  EXPECT_LT(e.mean_recurring, e.mean_all);
+
+  // 4. The former selection (greedy cover by count, no medoids) on the same
+  // KS, for the record; the default must beat it (the reason it changed).
+  KeyframeSelectOptions former;
+  former.cover = KeyframeCover::kCount;
+  former.medoid_rounds = 0;
+  const KeyframeGtEvaluation f = EvaluateKeyframesWithGtPoses(
+      SelectKeyframes(sel.similarity, former), GtPoseDistanceMatrix(gt_poses_));
+  std::printf("former count cover: %d key-frames, member -> key-frame %.4f m\n", f.num_keyframes,
+              f.mean_member);
+  EXPECT_LT(e.mean_member, f.mean_member);
 }
 
 }  // namespace
