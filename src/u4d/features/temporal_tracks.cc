@@ -334,4 +334,51 @@ TrackPrecision EvaluateTracksWithGtFlow(const Capture& capture,
   return result;
 }
 
+void WriteTemporalTracks(const fs::path& path, const std::string& view_name, int view,
+                         const std::vector<TemporalTrack>& tracks) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const TemporalTrack& t : tracks) {
+    if (t.view != view) continue;
+    nlohmann::json points = nlohmann::json::array();
+    for (const auto& [frame, x] : t.points) points.push_back({frame, x.x(), x.y()});
+    list.push_back({{"id", static_cast<int>(list.size())},
+                    {"instance", t.instance},
+                    {"from_joint", t.from_joint},
+                    {"joint", t.joint},
+                    {"person_id", t.person_id},
+                    {"points", points}});
+  }
+  WriteJsonFileAtomic(path, {{"format", "u4d-tracks"}, {"view", view_name}, {"tracks", list}}, -1);
+}
+
+std::vector<TemporalTrack> ReadTemporalTracks(const fs::path& path, int view) {
+  const nlohmann::json j = ReadJsonFile(path);
+  const std::string ctx = path.string();
+  U4D_CHECK(j.is_object() && j.value("format", "") == "u4d-tracks",
+            "{}: not a u4d-tracks file (\"format\": \"u4d-tracks\" expected)", ctx);
+  std::vector<TemporalTrack> tracks;
+  for (const nlohmann::json& jt : JsonGet<nlohmann::json>(j, "tracks", ctx)) {
+    TemporalTrack t;
+    t.view = view;
+    t.instance = static_cast<int>(
+        JsonInteger(JsonGet<nlohmann::json>(jt, "instance", ctx), ctx, "instance"));
+    t.from_joint = JsonGet<bool>(jt, "from_joint", ctx);
+    t.joint =
+        static_cast<int>(JsonInteger(JsonGet<nlohmann::json>(jt, "joint", ctx), ctx, "joint"));
+    t.person_id = static_cast<int>(
+        JsonInteger(JsonGet<nlohmann::json>(jt, "person_id", ctx), ctx, "person_id"));
+    for (const nlohmann::json& p : JsonGet<nlohmann::json>(jt, "points", ctx)) {
+      U4D_CHECK(p.is_array() && p.size() == 3, "{}: a track point must be [frame, x, y]", ctx);
+      const int frame = static_cast<int>(JsonInteger(p[0], ctx, "point frame"));
+      const Eigen::Vector2d x(JsonNumber(p[1], ctx, "point x"), JsonNumber(p[2], ctx, "point y"));
+      U4D_CHECK(x.allFinite(), "{}: non-finite track point", ctx);
+      U4D_CHECK(t.points.empty() || frame > t.points.back().first,
+                "{}: track frames must be strictly increasing", ctx);
+      t.points.emplace_back(frame, x);
+    }
+    tracks.push_back(std::move(t));
+  }
+  return tracks;
+}
+
 }  // namespace u4d

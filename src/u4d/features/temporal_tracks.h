@@ -18,6 +18,7 @@
 // masks were given.
 #pragma once
 
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -136,5 +137,17 @@ struct TrackPrecision {
 TrackPrecision EvaluateTracksWithGtFlow(const Capture& capture,
                                         const std::vector<TemporalTrack>& tracks,
                                         double max_error_px = 2.0);
+
+// tracks/<view>.json of a 4D scene (io/layout.h SceneTracks):
+//   {"format": "u4d-tracks", "view": "cam00",
+//    "tracks": [{"id": 0, "instance": 1, "from_joint": false, "joint": -1, "person_id": -1,
+//                "points": [[frame, x, y], ...]}]}
+// Written atomically with the tracks of `view` only, numbered from 0 (pixels
+// of the camera, as the viewer draws them). Reading throws
+// u4d::Error naming the file on a wrong format, a missing field, frames not
+// strictly increasing or a non-finite pixel.
+void WriteTemporalTracks(const fs::path& path, const std::string& view_name, int view,
+                         const std::vector<TemporalTrack>& tracks);
+std::vector<TemporalTrack> ReadTemporalTracks(const fs::path& path, int view);
 
 }  // namespace u4d

@@ -72,4 +72,12 @@ fs::path SceneSegmentDir(int segment) {
   return fs::path("segments") / fmt::format("{:02d}", segment);
 }
 
+fs::path SceneInitialMask(const std::string& view, int frame) {
+  return fs::path("initial/masks") / view / (FrameName(frame) + ".png");
+}
+fs::path SceneInitialObjects(int frame) {
+  return fs::path("initial/objects") / (FrameName(frame) + ".json");
+}
+fs::path SceneRunLog() { return "run.json"; }
+
 }  // namespace u4d::layout

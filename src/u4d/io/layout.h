@@ -49,5 +49,10 @@ fs::path ScenePoses3d(int frame);               // poses3d/<frame>.json
 fs::path SceneTracks(const std::string& view);  // tracks/<view>.json
 fs::path SceneMesh(int object_id, int frame);   // meshes/<id>/<frame>.ply (colour, label)
 fs::path SceneSegmentDir(int segment);          // segments/<kk>/ (segment.json, <id>.glb)
+// What the run started from (kept so that a resumed run starts from the same):
+// the initial masks with object ids, and per frame the objects' depth ranges.
+fs::path SceneInitialMask(const std::string& view, int frame);  // initial/masks/<view>/<frame>.png
+fs::path SceneInitialObjects(int frame);                        // initial/objects/<frame>.json
+fs::path SceneRunLog();  // run.json: stages and segments done, time and memory per stage
 
 }  // namespace u4d::layout

@@ -1,5 +1,6 @@
 #include "u4d/io/visualize.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -123,6 +124,44 @@ cv::Mat ColorizeFlow(const cv::Mat& flow32fc2, double max_magnitude) {
       out.at<cv::Vec3b>(y, x) = {rgb[2], rgb[1], rgb[0]};
     }
   return out;
+}
+
+cv::Mat DownscaleToWidth(const cv::Mat& image, int width, bool nearest) {
+  if (width <= 0 || image.cols <= width) return image;
+  const int height = std::max(
+      1, static_cast<int>(std::lround(image.rows * static_cast<double>(width) / image.cols)));
+  cv::Mat out;
+  cv::resize(image, out, {width, height}, 0, 0, nearest ? cv::INTER_NEAREST : cv::INTER_AREA);
+  return out;
+}
+
+std::pair<double, double> VisibleDepthRange(const cv::Mat& z32) {
+  U4D_CHECK(z32.type() == CV_32FC1, "VisibleDepthRange: expected a CV_32FC1 depth map");
+  std::vector<float> v;
+  for (int y = 0; y < z32.rows; ++y)
+    for (int x = 0; x < z32.cols; ++x) {
+      const float z = z32.at<float>(y, x);
+      if (std::isfinite(z) && z > 0) v.push_back(z);
+    }
+  if (v.size() < 2) return {0.0, 10.0};
+  std::sort(v.begin(), v.end());
+  const double lo = v[v.size() * 2 / 100], hi = v[v.size() * 98 / 100];
+  const double pad = 0.05 * std::max(hi - lo, 0.1);
+  return {std::max(0.0, lo - pad), hi + pad};
+}
+
+double MaxFlowMagnitude(const cv::Mat& flow32fc2, const cv::Mat& valid) {
+  U4D_CHECK(flow32fc2.type() == CV_32FC2, "MaxFlowMagnitude: expected a CV_32FC2 flow map");
+  double m = 1.0;
+  for (int y = 0; y < flow32fc2.rows; ++y)
+    for (int x = 0; x < flow32fc2.cols; ++x) {
+      if (!valid.empty() && valid.at<uint8_t>(y, x) == 0) continue;
+      const cv::Vec2f f = flow32fc2.at<cv::Vec2f>(y, x);
+      if (std::isfinite(f[0]) && std::isfinite(f[1]) && std::abs(f[0]) < 1e9f &&
+          std::abs(f[1]) < 1e9f)
+        m = std::max(m, static_cast<double>(std::hypot(f[0], f[1])));
+    }
+  return m;
 }
 
 }  // namespace u4d

@@ -8,6 +8,7 @@
 // depth range or flow scale.
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -43,5 +44,22 @@ cv::Mat ColorizeFlow(const cv::Mat& flow32fc2, double max_magnitude);
 // The colour (RGB) ColorizeFlow gives the vector (u, v) for the scale
 // max_magnitude; exposed for tests and legends.
 cv::Vec3b FlowColor(float u, float v, double max_magnitude);
+
+// Helpers for the viewer's pictures (`u4d run`, `u4d scene-from-gt`).
+
+// `image` scaled to `width` pixels wide keeping the aspect ratio (area
+// averaging, or nearest neighbour for ids and colourised maps); returned
+// unchanged when width <= 0 or the image is not wider.
+cv::Mat DownscaleToWidth(const cv::Mat& image, int width, bool nearest);
+
+// A display range for a CV_32F depth map: the 2nd and 98th percentiles of
+// its known (finite, > 0) depths widened by 5% of their spread (at least
+// 5 mm), so that one far pixel does not wash out the people. (0, 10) when
+// fewer than two depths are known.
+std::pair<double, double> VisibleDepthRange(const cv::Mat& z32);
+
+// The largest finite flow magnitude of a CV_32FC2 map over the pixels where
+// `valid` (CV_8U, optional) is nonzero, at least 1 pixel.
+double MaxFlowMagnitude(const cv::Mat& flow32fc2, const cv::Mat& valid);
 
 }  // namespace u4d
