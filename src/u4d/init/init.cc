@@ -1,0 +1,116 @@
+// InitOptions and the whole unsupervised chain (init.h).
+#include <set>
+
+#include <tbb/parallel_for.h>
+
+#include "u4d/init/init.h"
+#include "u4d/util/check.h"
+
+namespace u4d {
+
+void InitOptions::Check() const {
+  U4D_CHECK(threshold_sigmas > 0, "InitOptions.threshold_sigmas must be > 0, found {}",
+            threshold_sigmas);
+  U4D_CHECK(min_noise_sigma >= 0, "InitOptions.min_noise_sigma must be >= 0, found {}",
+            min_noise_sigma);
+  U4D_CHECK(shadow_min_ratio > 0 && shadow_min_ratio <= shadow_max_ratio && shadow_max_ratio < 1,
+            "InitOptions.shadow_min_ratio/shadow_max_ratio must satisfy 0 < min <= max < 1, found "
+            "{} and {}",
+            shadow_min_ratio, shadow_max_ratio);
+  U4D_CHECK(shadow_chroma_sigmas >= 0, "InitOptions.shadow_chroma_sigmas must be >= 0, found {}",
+            shadow_chroma_sigmas);
+  U4D_CHECK(morph_radius_px >= 0, "InitOptions.morph_radius_px must be >= 0, found {}",
+            morph_radius_px);
+  U4D_CHECK(min_blob_fraction >= 0 && min_blob_fraction < 1,
+            "InitOptions.min_blob_fraction must be in [0, 1), found {}", min_blob_fraction);
+  U4D_CHECK(consistency_max_side >= 16, "InitOptions.consistency_max_side must be >= 16, found {}",
+            consistency_max_side);
+  U4D_CHECK(step_px > 0.05 && step_px <= 10, "InitOptions.step_px must be in (0.05, 10], found {}",
+            step_px);
+  U4D_CHECK(min_depth_m > 0, "InitOptions.min_depth_m must be > 0, found {}", min_depth_m);
+  U4D_CHECK(max_depth_m == 0 || max_depth_m > min_depth_m,
+            "InitOptions.max_depth_m must be 0 (auto) or > min_depth_m ({}), found {}", min_depth_m,
+            max_depth_m);
+  U4D_CHECK(min_view_fraction > 0 && min_view_fraction <= 1,
+            "InitOptions.min_view_fraction must be in (0, 1], found {}", min_view_fraction);
+  U4D_CHECK(min_views_seeing >= 1, "InitOptions.min_views_seeing must be >= 1, found {}",
+            min_views_seeing);
+  U4D_CHECK(consistency_dilation_px >= 0,
+            "InitOptions.consistency_dilation_px must be >= 0, found {}", consistency_dilation_px);
+  U4D_CHECK(min_consistent_fraction >= 0 && min_consistent_fraction <= 1,
+            "InitOptions.min_consistent_fraction must be in [0, 1], found {}",
+            min_consistent_fraction);
+  U4D_CHECK(min_person_height_px >= 16, "InitOptions.min_person_height_px must be >= 16, found {}",
+            min_person_height_px);
+  U4D_CHECK(hog_max_side >= 128, "InitOptions.hog_max_side must be >= 128, found {}", hog_max_side);
+  U4D_CHECK(profile_valley_ratio > 0 && profile_valley_ratio < 1,
+            "InitOptions.profile_valley_ratio must be in (0, 1), found {}", profile_valley_ratio);
+  U4D_CHECK(min_instance_fraction >= 0 && min_instance_fraction < 1,
+            "InitOptions.min_instance_fraction must be in [0, 1), found {}", min_instance_fraction);
+  U4D_CHECK(grabcut_iterations >= 0, "InitOptions.grabcut_iterations must be >= 0, found {}",
+            grabcut_iterations);
+  U4D_CHECK(group_radius_px >= 0, "InitOptions.group_radius_px must be >= 0, found {}",
+            group_radius_px);
+  U4D_CHECK(box_min_coverage >= 0 && box_min_coverage <= 1,
+            "InitOptions.box_min_coverage must be in [0, 1], found {}", box_min_coverage);
+  U4D_CHECK(grabcut_box_iterations >= 0,
+            "InitOptions.grabcut_box_iterations must be >= 0, found {}", grabcut_box_iterations);
+  U4D_CHECK(grabcut_max_side >= 16, "InitOptions.grabcut_max_side must be >= 16, found {}",
+            grabcut_max_side);
+}
+
+std::vector<cv::Mat> UnsupervisedInstanceMasks(const std::vector<Camera>& cameras,
+                                               const std::vector<cv::Mat>& images_t,
+                                               const std::vector<BackgroundModel>& backgrounds,
+                                               const InitOptions& options) {
+  options.Check();
+  const int nv = static_cast<int>(images_t.size());
+  U4D_CHECK(nv >= 1, "UnsupervisedInstanceMasks: no images given");
+  U4D_CHECK(backgrounds.size() == images_t.size(),
+            "UnsupervisedInstanceMasks: {} backgrounds for {} images", backgrounds.size(),
+            images_t.size());
+  U4D_CHECK(cameras.empty() || cameras.size() == images_t.size(),
+            "UnsupervisedInstanceMasks: {} cameras for {} images (give one per view or none)",
+            cameras.size(), images_t.size());
+  for (int v = 0; v < nv; ++v) {
+    U4D_CHECK(!images_t[v].empty(), "UnsupervisedInstanceMasks: image of view {} is empty", v);
+    if (!cameras.empty()) {
+      U4D_CHECK(images_t[v].cols == cameras[v].width && images_t[v].rows == cameras[v].height,
+                "UnsupervisedInstanceMasks: image of view {} is {}x{}, its camera {}x{}", v,
+                images_t[v].cols, images_t[v].rows, cameras[v].width, cameras[v].height);
+    }
+  }
+  std::vector<cv::Mat> fg(nv);
+  std::vector<std::vector<PersonBox>> boxes(nv);
+  // Views in parallel; HOG and OpenCV's filters are themselves parallel.
+  tbb::parallel_for(0, nv, [&](int v) {
+    fg[v] = ForegroundMask(images_t[v], backgrounds[v], options);
+    if (options.use_hog) {
+      boxes[v] = DetectPeople(images_t[v], options);
+      fg[v] = AddDetectedPeople(images_t[v], fg[v], boxes[v], options);
+    }
+  });
+  if (options.cross_view && cameras.size() >= 2)
+    fg = CrossViewConsistentMasks(cameras, fg, options);
+  std::vector<cv::Mat> ids(nv);
+  tbb::parallel_for(0, nv,
+                    [&](int v) { ids[v] = SplitInstances(images_t[v], fg[v], boxes[v], options); });
+  return ids;
+}
+
+InstanceMask ToInstanceMask(const cv::Mat& ids) {
+  U4D_CHECK(!ids.empty() && ids.type() == CV_16UC1,
+            "ToInstanceMask: expected a non-empty CV_16UC1 id image");
+  InstanceMask m;
+  m.ids = ids;
+  std::set<int> present;
+  for (int y = 0; y < ids.rows; ++y) {
+    const uint16_t* p = ids.ptr<uint16_t>(y);
+    for (int x = 0; x < ids.cols; ++x)
+      if (p[x]) present.insert(p[x]);
+  }
+  for (const int id : present) m.instances.push_back({id, "person", 1.0});
+  return m;
+}
+
+}  // namespace u4d

@@ -1,0 +1,289 @@
+// Tests of the unsupervised initial masks (init.h) against the ground truth
+// of a synthetic capture: the handshake preset with 4 static cameras.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "u4d/init/init.h"
+#include "u4d/io/capture.h"
+#include "u4d/io/frame_reader.h"
+#include "u4d/io/instance_mask.h"
+#include "u4d/io/layout.h"
+#include "u4d/synth/environment.h"
+#include "u4d/synth/generate.h"
+#include "u4d/synth/render.h"
+#include "u4d/util/check.h"
+
+namespace u4d {
+namespace {
+
+// The handshake at 2.25 frames/s over an 8 s script (18 frames) (they walk in, shake hands,
+// walk a little apart and stand), seen by 4 static cameras. The people stay
+// within ~1.5 m of the centre for the whole script, so the capture alone
+// never shows the background behind them; a background model needs a
+// sequence where the people are elsewhere most of the time. The background
+// sequence here is what a recording that starts with the empty room gives:
+// 2 * num_frames renders of the empty room (the same environment and
+// cameras, each with its own sensor noise) followed by the capture's frames,
+// so the people are in one third of the sampled frames.
+struct SynthFixture {
+  Capture capture;
+  std::vector<std::vector<cv::Mat>> images;  // [view][frame]
+  std::vector<BackgroundModel> backgrounds;
+  std::vector<Camera> cameras;
+};
+
+const SynthFixture& Fixture() {
+  static const SynthFixture* fixture = [] {
+    synth::SynthOptions o = synth::SmallHandshakeOptions(4, 320, 240, 18);
+    o.fps = 2.25;
+    o.script_seconds = 8.0;
+    o.start_frame = 0;
+    auto* f = new SynthFixture;
+    f->capture = ReadCapture(synth::WriteCaptureToTempDir("init_test", o));
+    FrameReader reader(f->capture);
+    const int nv = f->capture.NumViews();
+    const int nt = f->capture.num_frames;
+    for (int v = 0; v < nv; ++v) f->cameras.push_back(f->capture.views[v].CameraAt(0));
+    std::vector<std::vector<cv::Mat>> sequence(nv);
+    synth::SceneFrame empty;
+    empty.statics = synth::MakeEnvironment(o.environment);
+    const auto layers = synth::RenderStaticLayers(f->cameras, empty.statics, o.render);
+    for (int k = 0; k < 2 * nt; ++k) {
+      empty.time = 100.0 + k / o.fps;  // selects the noise stream
+      const auto views = synth::RenderViews(f->cameras, empty, o.render, &layers);
+      for (int v = 0; v < nv; ++v) sequence[v].push_back(views[v].color);
+    }
+    f->images.resize(nv);
+    BackgroundOptions bo;
+    bo.max_frames = 3 * nt;
+    for (int v = 0; v < nv; ++v) {
+      for (int t = 0; t < nt; ++t) f->images[v].push_back(reader.Read(v, t));
+      sequence[v].insert(sequence[v].end(), f->images[v].begin(), f->images[v].end());
+      f->backgrounds.push_back(EstimateBackground(sequence[v], bo));
+    }
+    return f;
+  }();
+  return *fixture;
+}
+
+cv::Mat GtIds(const Capture& c, int v, int t) {
+  return ReadInstanceMask(c.root / layout::GtInstances(c.views[v].name, t),
+                          c.root / layout::GtInstancesInfo(c.views[v].name, t))
+      .ids;
+}
+
+int CountIds(const cv::Mat& ids) {
+  double mx = 0;
+  cv::minMaxLoc(ids, nullptr, &mx);
+  return static_cast<int>(mx);
+}
+
+// Distinct ids present (GT ids need not be contiguous).
+int DistinctIds(const cv::Mat& ids) {
+  std::vector<int> seen;
+  for (int y = 0; y < ids.rows; ++y)
+    for (int x = 0; x < ids.cols; ++x)
+      if (const int id = ids.at<uint16_t>(y, x);
+          id && std::find(seen.begin(), seen.end(), id) == seen.end())
+        seen.push_back(id);
+  return static_cast<int>(seen.size());
+}
+
+TEST(InitTest, ForegroundIoUAgainstGroundTruth) {
+  const SynthFixture& f = Fixture();
+  const int nv = f.capture.NumViews();
+  for (const BackgroundModel& b : f.backgrounds) {
+    std::printf("background noise sigma %.2f Lab from %d frames\n", b.sigma, b.frames_used);
+    // Sensor noise is 1.5 grey levels: about that in 8-bit Lab units.
+    EXPECT_LT(b.sigma, 3.0);
+    EXPECT_GT(b.sigma, 0.3);
+  }
+  double inter = 0, uni = 0, inter_raw = 0, uni_raw = 0, inter_box = 0, uni_box = 0;
+  InitOptions raw;
+  raw.cross_view = false;
+  InitOptions box;  // with GrabCut in weakly covered HOG boxes (off by default)
+  box.grabcut_box_iterations = 3;
+  for (int t = 0; t < f.capture.num_frames; t += 5) {
+    std::vector<cv::Mat> images(nv);
+    for (int v = 0; v < nv; ++v) images[v] = f.images[v][t];
+    const std::vector<cv::Mat> ids = UnsupervisedInstanceMasks(f.cameras, images, f.backgrounds);
+    const std::vector<cv::Mat> idsb =
+        UnsupervisedInstanceMasks(f.cameras, images, f.backgrounds, box);
+    for (int v = 0; v < nv; ++v) {
+      const cv::Mat gt = GtIds(f.capture, v, t) > 0;
+      const cv::Mat p = ids[v] > 0;
+      inter += cv::countNonZero(gt & p);
+      uni += cv::countNonZero(gt | p);
+      const cv::Mat q = ForegroundMask(images[v], f.backgrounds[v], raw) > 0;
+      const cv::Mat b = idsb[v] > 0;
+      inter_box += cv::countNonZero(gt & b);
+      uni_box += cv::countNonZero(gt | b);
+      inter_raw += cv::countNonZero(gt & q);
+      uni_raw += cv::countNonZero(gt | q);
+    }
+  }
+  const double iou = inter / uni, iou_raw = inter_raw / uni_raw;
+  std::printf(
+      "foreground IoU: %.3f (background subtraction alone %.3f, with GrabCut in HOG boxes %.3f)\n",
+      iou, iou_raw, inter_box / uni_box);
+  // A static rig with a textured background, 1.5-level noise and no lighting
+  // change: the background model sees the true background, so the errors are
+  // only where a person's colour is close to what is behind it (dark trousers
+  // on the dark wall, shadows classified as background and vice versa) and a
+  // 1-2 px band at the silhouette from morphology and anti-aliasing. People
+  // are ~50 px tall here, so that band alone is ~10% of their area; 0.75 is
+  // what a working background model should reach.
+  EXPECT_GT(iou, 0.75);
+  EXPECT_GT(iou_raw, 0.75);
+}
+
+TEST(InitTest, InstanceCountWhenPeopleApart) {
+  const SynthFixture& f = Fixture();
+  const int nv = f.capture.NumViews();
+  int judged = 0, right = 0;
+  for (int t = 0; t < f.capture.num_frames; t += 3) {
+    std::vector<cv::Mat> images(nv);
+    for (int v = 0; v < nv; ++v) images[v] = f.images[v][t];
+    const std::vector<cv::Mat> ids = UnsupervisedInstanceMasks(f.cameras, images, f.backgrounds);
+    for (int v = 0; v < nv; ++v) {
+      const cv::Mat gt = GtIds(f.capture, v, t);
+      const int n_gt = DistinctIds(gt);
+      if (n_gt == 0) continue;
+      // People apart: the GT components of the union are as many as the people
+      // (no touching or occlusion in this view), each bigger than 100 px.
+      cv::Mat labels, stats, cents;
+      const int nc = cv::connectedComponentsWithStats(gt > 0, labels, stats, cents, 8) - 1;
+      if (nc != n_gt) continue;
+      bool all_big = true;
+      for (int c = 1; c <= nc; ++c) all_big &= stats.at<int>(c, cv::CC_STAT_AREA) > 100;
+      if (!all_big) continue;
+      ++judged;
+      right += CountIds(ids[v]) == n_gt;
+    }
+  }
+  std::printf("instance count right in %d of %d view-frames with people apart\n", right, judged);
+  ASSERT_GT(judged, 10);
+  // Separate people give separate components unless a person's part is lost
+  // (splitting them) or a shadow links them: "most" frames, i.e. >= 80%.
+  EXPECT_GE(right, 0.8 * judged);
+}
+
+TEST(InitTest, DetectorBoxesSplitTouchingPeople) {
+  // Where the two people touch (one GT component), boxes around each person
+  // (what a perfect HOG detector gives, 10% margin) must split the union of
+  // the GT silhouettes into two instances. Pixels are assigned by the nearest
+  // box centre column, so only where the boxes overlap (the clasped hands and
+  // arms, ~10% of a person) can a pixel go to the wrong person: per-person
+  // IoU >= 0.7 is what the split should reach.
+  const SynthFixture& f = Fixture();
+  int tested = 0;
+  for (int t = 0; t < f.capture.num_frames && tested < 4; ++t) {
+    for (int v = 0; v < f.capture.NumViews() && tested < 4; ++v) {
+      const cv::Mat gt = GtIds(f.capture, v, t);
+      if (DistinctIds(gt) != 2) continue;
+      cv::Mat labels;
+      if (cv::connectedComponents(gt > 0, labels, 8) - 1 != 1) continue;
+      std::vector<int> ids;
+      for (int y = 0; y < gt.rows; ++y)
+        for (int x = 0; x < gt.cols; ++x)
+          if (const int id = gt.at<uint16_t>(y, x);
+              id && std::find(ids.begin(), ids.end(), id) == ids.end())
+            ids.push_back(id);
+      std::vector<PersonBox> boxes;
+      bool big = true;
+      for (const int id : ids) {
+        const cv::Mat m = gt == id;
+        big &= cv::countNonZero(m) > 150;
+        const cv::Rect r = cv::boundingRect(m);
+        const int mx = r.width / 10, my = r.height / 10;
+        boxes.push_back({cv::Rect(r.x - mx, r.y - my, r.width + 2 * mx, r.height + 2 * my) &
+                             cv::Rect(0, 0, gt.cols, gt.rows),
+                         1.0});
+      }
+      // Boxes must be apart horizontally (half a box width), else it is an occlusion.
+      const double c0 = boxes[0].box.x + 0.5 * boxes[0].box.width;
+      const double c1 = boxes[1].box.x + 0.5 * boxes[1].box.width;
+      if (!big || std::abs(c0 - c1) < 0.5 * std::min(boxes[0].box.width, boxes[1].box.width))
+        continue;
+      ++tested;
+      InitOptions options;
+      options.min_instance_fraction = 0;
+      const cv::Mat split = SplitInstances(f.images[v][t], gt > 0, boxes, options);
+      ASSERT_EQ(CountIds(split), 2) << "view " << v << " frame " << t;
+      for (const int id : ids) {
+        const cv::Mat g = gt == id;
+        double best = 0;
+        for (int k = 1; k <= 2; ++k) {
+          const cv::Mat p = split == k;
+          best = std::max(best,
+                          static_cast<double>(cv::countNonZero(g & p)) / cv::countNonZero(g | p));
+        }
+        std::printf("view %d frame %d person %d: IoU %.3f\n", v, t, id, best);
+        EXPECT_GT(best, 0.7);
+      }
+    }
+  }
+  std::printf("touching view-frames tested: %d\n", tested);
+  EXPECT_GT(tested, 0);
+}
+
+TEST(InitTest, CrossViewCheckRemovesInjectedBlob) {
+  const SynthFixture& f = Fixture();
+  const int nv = f.capture.NumViews();
+  const int t = f.capture.num_frames / 2;
+  std::vector<cv::Mat> masks(nv);
+  for (int v = 0; v < nv; ++v) masks[v] = (GtIds(f.capture, v, t) > 0);
+  // A false blob in view 0 away from the people: a disc in the upper left.
+  cv::Mat people = masks[0].clone();
+  const cv::Point centre(masks[0].cols / 6, masks[0].rows / 5);
+  ASSERT_EQ(cv::countNonZero(people(cv::Rect(centre - cv::Point(20, 20), cv::Size(40, 40)))), 0);
+  cv::circle(masks[0], centre, 12, cv::Scalar(255), cv::FILLED);
+  std::vector<double> share;
+  const std::vector<cv::Mat> out = CrossViewConsistentMasks(f.cameras, masks, {}, &share);
+  std::printf("consistent share per view:");
+  for (const double s : share) std::printf(" %.3f", s);
+  std::printf("\n");
+  // The blob is gone, the people stay (true silhouettes are consistent).
+  EXPECT_EQ(out[0].at<uint8_t>(centre), 0);
+  for (int v = 0; v < nv; ++v) {
+    const cv::Mat& truth = v == 0 ? people : masks[v];
+    const double kept = static_cast<double>(cv::countNonZero(out[v] & truth)) /
+                        std::max(1, cv::countNonZero(truth));
+    EXPECT_GT(kept, 0.95) << "view " << v;
+  }
+}
+
+TEST(InitTest, FailsClearlyOnBadInput) {
+  const SynthFixture& f = Fixture();
+  EXPECT_THROW(EstimateBackground(std::vector<cv::Mat>{}), Error);
+  EXPECT_THROW(EstimateBackground({cv::Mat()}), Error);
+  EXPECT_THROW(EstimateBackground({cv::Mat(10, 10, CV_8UC3), cv::Mat(12, 10, CV_8UC3)}), Error);
+  EXPECT_THROW(ForegroundMask(cv::Mat(10, 10, CV_8UC3), f.backgrounds[0]), Error);
+  EXPECT_THROW(UnsupervisedInstanceMasks(f.cameras, {f.images[0][0]}, f.backgrounds), Error);
+  InitOptions bad;
+  bad.min_view_fraction = 1.5;
+  EXPECT_THROW(bad.Check(), Error);
+  try {
+    bad.Check();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("min_view_fraction"), std::string::npos);
+  }
+  // An InstanceMask that round-trips through the capture format.
+  const int t = f.capture.num_frames / 2;
+  const std::vector<cv::Mat> ids = UnsupervisedInstanceMasks(
+      f.cameras, {f.images[0][t], f.images[1][t], f.images[2][t], f.images[3][t]}, f.backgrounds);
+  ASSERT_EQ(ids.size(), 4u);
+  EXPECT_EQ(ids[0].type(), CV_16UC1);
+  const InstanceMask m = ToInstanceMask(ids[0]);
+  EXPECT_EQ(static_cast<int>(m.instances.size()), CountIds(ids[0]));  // ids 1..n, contiguous
+  for (const InstanceInfo& info : m.instances) EXPECT_EQ(info.label, "person");
+  EXPECT_THROW(ToInstanceMask(cv::Mat(4, 4, CV_8UC1)), Error);
+}
+
+}  // namespace
+}  // namespace u4d
