@@ -8,14 +8,16 @@ Command MakeEvalCommand();
 Command MakeImportCommand();
 Command MakeSynthCommand();
 Command MakeDemoCommand();
+Command MakeRunCommand();
 Command MakeSceneFromGtCommand();
 Command MakeViewCommand();
 Command MakeExportViewerCommand();
 
 const std::vector<Command>& Commands() {
   static const std::vector<Command> commands = {
-      MakeInfoCommand(), MakeEvalCommand(),        MakeImportCommand(), MakeSynthCommand(),
-      MakeDemoCommand(), MakeSceneFromGtCommand(), MakeViewCommand(),   MakeExportViewerCommand(),
+      MakeInfoCommand(),        MakeEvalCommand(), MakeImportCommand(),
+      MakeSynthCommand(),       MakeRunCommand(),  MakeDemoCommand(),
+      MakeSceneFromGtCommand(), MakeViewCommand(), MakeExportViewerCommand(),
   };
   return commands;
 }

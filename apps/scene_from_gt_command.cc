@@ -7,8 +7,6 @@
 // the ground truth against itself, and scene.json. Used by the viewer's tests
 // and demos; `u4d view <out>` shows it.
 #include <algorithm>
-#include <cstring>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <set>
@@ -21,6 +19,7 @@
 #include "apps/commands.h"
 #include "u4d/eval/evaluate.h"
 #include "u4d/eval/mesh_metrics.h"
+#include "u4d/fusion/labelled_ply.h"
 #include "u4d/io/capture.h"
 #include "u4d/io/frame_reader.h"
 #include "u4d/io/image_io.h"
@@ -42,81 +41,9 @@ struct SceneFromGtArgs {
   bool eval = true;
 };
 
-// Binary little-endian PLY: float x y z, uchar red green blue, ushort label,
-// triangles. `rgb` holds colours in [0, 1].
-void WriteLabelledPly(const fs::path& path, const open3d::geometry::TriangleMesh& mesh, int label) {
-  WriteAtomically(path, [&](const fs::path& tmp) {
-    std::ofstream f(tmp, std::ios::binary);
-    U4D_CHECK(f.good(), "cannot write mesh {}", path.string());
-    const size_t n = mesh.vertices_.size();
-    f << "ply\nformat binary_little_endian 1.0\ncomment u4d scene mesh\n"
-      << "element vertex " << n << "\nproperty float x\nproperty float y\nproperty float z\n"
-      << "property uchar red\nproperty uchar green\nproperty uchar blue\n"
-      << "property ushort label\nelement face " << mesh.triangles_.size()
-      << "\nproperty list uchar int vertex_indices\nend_header\n";
-    const cv::Vec3b inst = InstanceColor(label);
-    const bool has_colour = mesh.vertex_colors_.size() == n;
-    for (size_t i = 0; i < n; ++i) {
-      const float p[3] = {float(mesh.vertices_[i].x()), float(mesh.vertices_[i].y()),
-                          float(mesh.vertices_[i].z())};
-      uint8_t c[3] = {inst[0], inst[1], inst[2]};
-      if (has_colour)
-        for (int k = 0; k < 3; ++k)
-          c[k] = cv::saturate_cast<uint8_t>(255.0 * mesh.vertex_colors_[i][k] + 0.5);
-      const uint16_t l = static_cast<uint16_t>(label);
-      f.write(reinterpret_cast<const char*>(p), sizeof(p));
-      f.write(reinterpret_cast<const char*>(c), sizeof(c));
-      f.write(reinterpret_cast<const char*>(&l), sizeof(l));
-    }
-    for (const Eigen::Vector3i& t : mesh.triangles_) {
-      const uint8_t three = 3;
-      const int32_t v[3] = {t.x(), t.y(), t.z()};
-      f.write(reinterpret_cast<const char*>(&three), 1);
-      f.write(reinterpret_cast<const char*>(v), sizeof(v));
-    }
-    U4D_CHECK(f.good(), "cannot write mesh {}", path.string());
-  });
-}
-
 void CopyFile(const fs::path& from, const fs::path& to) {
   fs::create_directories(to.parent_path());
   fs::copy_file(from, to, fs::copy_options::overwrite_existing);
-}
-
-cv::Mat Downscale(const cv::Mat& image, int width, bool nearest) {
-  if (width <= 0 || image.cols <= width) return image;
-  cv::Mat out;
-  const int height = std::max(
-      1, static_cast<int>(std::lround(image.rows * static_cast<double>(width) / image.cols)));
-  cv::resize(image, out, {width, height}, 0, 0, nearest ? cv::INTER_NEAREST : cv::INTER_AREA);
-  return out;
-}
-
-// Depth range of a view: 2nd and 98th percentiles of the known depths of its
-// first frame, widened by 5%, so that one far pixel does not wash out people.
-std::pair<double, double> DepthRange(const cv::Mat& z) {
-  std::vector<float> v;
-  for (int y = 0; y < z.rows; ++y)
-    for (int x = 0; x < z.cols; ++x)
-      if (std::isfinite(z.at<float>(y, x)) && z.at<float>(y, x) > 0) v.push_back(z.at<float>(y, x));
-  if (v.size() < 2) return {0.0, 10.0};
-  std::sort(v.begin(), v.end());
-  const double lo = v[v.size() * 2 / 100], hi = v[v.size() * 98 / 100];
-  const double pad = 0.05 * std::max(hi - lo, 0.1);
-  return {std::max(0.0, lo - pad), hi + pad};
-}
-
-// Largest valid flow magnitude of a map (at least 1 px).
-double MaxFlow(const cv::Mat& flow, const cv::Mat& valid) {
-  double m = 1.0;
-  for (int y = 0; y < flow.rows; ++y)
-    for (int x = 0; x < flow.cols; ++x) {
-      if (!valid.empty() && valid.at<uint8_t>(y, x) == 0) continue;
-      const cv::Vec2f f = flow.at<cv::Vec2f>(y, x);
-      if (std::isfinite(f[0]) && std::isfinite(f[1]) && std::abs(f[0]) < 1e9f)
-        m = std::max(m, static_cast<double>(std::hypot(f[0], f[1])));
-    }
-  return m;
 }
 
 // Key-frames from <capture>/keyframes.json ({"keyframes", "frame_keyframe"},
@@ -175,7 +102,7 @@ int Run(const SceneFromGtArgs& a) {
     std::pair<double, double> range{0, 0};
     for (int f = 0; f < cap.num_frames; ++f) {
       WriteImage(out / layout::ScenePicture("image", name, f),
-                 Downscale(reader.Read(v, f), a.picture_width, false));
+                 DownscaleToWidth(reader.Read(v, f), a.picture_width, false));
 
       const cv::Mat ids = ReadLabelImage(cap.root / layout::GtInstances(name, f));
       CopyFile(cap.root / layout::GtInstances(name, f), out / layout::SceneInstances(name, f));
@@ -184,14 +111,15 @@ int Run(const SceneFromGtArgs& a) {
       for (const nlohmann::json& inst : ReadJsonFile(info).value("instances", nlohmann::json()))
         object_class[inst.at("id").get<int>()] = inst.value("class", "person");
       WriteImage(out / layout::ScenePicture("instances", name, f),
-                 Downscale(ColorizeInstances(ids, {}), a.picture_width, true));
+                 DownscaleToWidth(ColorizeInstances(ids, {}), a.picture_width, true));
 
       const fs::path depth = cap.root / layout::GtDepth(name, f);
       const cv::Mat z = ReadPfm(depth);
-      if (f == 0) range = DepthRange(z);
+      if (f == 0) range = VisibleDepthRange(z);
       CopyFile(depth, out / layout::SceneDepth(name, f));
-      WriteImage(out / layout::ScenePicture("depth", name, f),
-                 Downscale(ColorizeDepth(z, range.first, range.second), a.picture_width, true));
+      WriteImage(
+          out / layout::ScenePicture("depth", name, f),
+          DownscaleToWidth(ColorizeDepth(z, range.first, range.second), a.picture_width, true));
 
       const fs::path flow = cap.root / layout::GtFlow(name, f);
       if (fs::exists(flow)) {
@@ -199,10 +127,10 @@ int Run(const SceneFromGtArgs& a) {
         const fs::path valid_path = cap.root / layout::GtFlowValid(name, f);
         const cv::Mat valid = fs::exists(valid_path) ? ReadMaskImage(valid_path) : cv::Mat();
         CopyFile(flow, out / layout::SceneFlow(name, f));
-        cv::Mat picture = ColorizeFlow(uv, MaxFlow(uv, valid));
+        cv::Mat picture = ColorizeFlow(uv, MaxFlowMagnitude(uv, valid));
         if (!valid.empty()) picture.setTo(cv::Scalar::all(0), valid == 0);
         WriteImage(out / layout::ScenePicture("flow", name, f),
-                   Downscale(picture, a.picture_width, true));
+                   DownscaleToWidth(picture, a.picture_width, true));
       }
       progress.Tick();
     }
@@ -226,7 +154,7 @@ int Run(const SceneFromGtArgs& a) {
       for (int f = 0; f < cap.num_frames; ++f) {
         const fs::path mesh = cap.root / layout::GtMesh(o.id, f);
         if (fs::exists(mesh)) {
-          WriteLabelledPly(out / layout::SceneMesh(o.id, f), eval::ReadMesh(mesh), o.id);
+          WriteLabelledMesh(out / layout::SceneMesh(o.id, f), eval::ReadMesh(mesh), o.id);
           index.has_meshes = true;
         }
         mesh_progress.Tick();

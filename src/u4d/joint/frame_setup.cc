@@ -97,8 +97,22 @@ std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
       images_t1[v] = Resize(data.images_t1[v], cams_t1[v], cv::INTER_AREA);
     }
   }
+  const bool by_poses = !data.poses_t.empty();
+  U4D_CHECK(by_poses || (data.masks_are_object_ids &&
+                         static_cast<int>(data.object_depth_ranges.size()) == nv),
+            "MakeJointViewInputs: without poses the masks must hold object ids and every one "
+            "of the {} views needs its object depth ranges",
+            nv);
   int num_labels = 1;
   for (const Pose3d& p : data.poses_t) num_labels = std::max(num_labels, p.person_id + 1);
+  for (const auto& ranges : data.object_depth_ranges)
+    for (const auto& [id, range] : ranges) {
+      U4D_CHECK(id >= 1 && id < 65536, "MakeJointViewInputs: object id {} out of [1, 65535]", id);
+      U4D_CHECK(range.first > 0 && range.second > range.first,
+                "MakeJointViewInputs: object {} has the bad depth range [{}, {}]", id, range.first,
+                range.second);
+      num_labels = std::max(num_labels, id + 1);
+    }
   std::vector<PersonPose> people;
   for (const Pose3d& p : data.poses_t) {
     PersonPose person;
@@ -112,7 +126,9 @@ std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
   auto labels_at = [&](const std::vector<cv::Mat>& masks, const std::vector<Camera>& full_cams,
                        int v, const Camera& working) -> cv::Mat {
     if (v >= static_cast<int>(masks.size()) || masks[v].empty()) return {};
-    const cv::Mat ids = AssignInstancesToPeople(full_cams[v], masks[v], data.poses_t, options);
+    const cv::Mat ids = data.masks_are_object_ids ? masks[v]
+                                                  : AssignInstancesToPeople(full_cams[v], masks[v],
+                                                                            data.poses_t, options);
     return Resize(ids, working, cv::INTER_NEAREST);
   };
 
@@ -146,6 +162,19 @@ std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
         scaled.displacement = s * sm.displacement;
         in.sparse.push_back(scaled);
       }
+    if (!by_poses) {
+      // Regions: the objects' masks; depth ranges as given.
+      for (const auto& [id, range] : data.object_depth_ranges[v]) {
+        JointObject obj;
+        obj.id = id;
+        obj.region = in.initial_labels == id;
+        if (cv::countNonZero(obj.region) == 0) continue;
+        obj.depth_near = range.first;
+        obj.depth_far = range.second;
+        in.objects.push_back(obj);
+      }
+      continue;
+    }
     // Regions: instances plus capsules; depth ranges from the joints.
     const PosePriorMap capsules =
         RenderPosePrior(cam, has_next ? cams_t1[v] : cam, images_t[v], people, options.pose);

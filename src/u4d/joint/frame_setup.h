@@ -13,8 +13,15 @@
 // which restores limbs the detector dropped (paper: "dilating the boundary to
 // include the missing joints"); its depth range is the z range of its joints
 // widened by `depth_margin_m`.
+//
+// Without poses (poses_t empty), the objects are given by the masks, which
+// must then hold object ids, with each view's depth ranges in
+// `object_depth_ranges` (the pipeline's cross-view association,
+// features/object_regions.h); the pose term has nothing to act on.
 #pragma once
 
+#include <map>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -31,6 +38,14 @@ struct JointFrameData {
   std::vector<cv::Mat> masks_prev, masks_t, masks_t1;     // CV_16U detector ids; empty Mat = none
   std::vector<Pose3d> poses_t, poses_t1;                  // person_id >= 1
   std::vector<std::vector<SparseMotion>> sparse;          // per view, t -> t+1, full resolution
+  // The masks already hold object ids (the same in every view and frame,
+  // e.g. from AssignInstancesToPeople or a cross-view association), so they
+  // are not assigned to people again.
+  bool masks_are_object_ids = false;
+  // Without poses: per view, object id -> (depth_near, depth_far) in metres;
+  // the objects of a view are then its mask's ids that have a range here,
+  // and their regions are their masks.
+  std::vector<std::map<int, std::pair<double, double>>> object_depth_ranges;
 };
 
 struct FrameSetupOptions {

@@ -1,0 +1,588 @@
+#include "u4d/pipeline/pipeline.h"
+
+#include <algorithm>
+#include <map>
+#include <set>
+
+#include <fmt/format.h>
+#include <open3d/geometry/TriangleMesh.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <opencv2/imgproc.hpp>
+
+#include "u4d/eval/evaluate.h"
+#include "u4d/fusion/labelled_ply.h"
+#include "u4d/io/capture.h"
+#include "u4d/io/frame_reader.h"
+#include "u4d/io/image_io.h"
+#include "u4d/io/instance_mask.h"
+#include "u4d/io/layout.h"
+#include "u4d/io/scene_index.h"
+#include "u4d/io/visualize.h"
+#include "u4d/joint/parameters.h"
+#include "u4d/pipeline/initial_objects.h"
+#include "u4d/pipeline/scene_outputs.h"
+#include "u4d/pose/given_poses.h"
+#include "u4d/util/check.h"
+#include "u4d/util/progress.h"
+#include "u4d/util/timer.h"
+
+namespace u4d {
+namespace {
+
+// Everything the stages share. Frames run are [f0, f1); per-frame vectors
+// are indexed by k = frame - f0.
+struct Context {
+  const Capture& cap;
+  fs::path out;
+  const RunOptions& o;
+  int f0 = 0, f1 = 0;
+  std::vector<std::string> names;
+  MaskSource masks = MaskSource::kGiven;
+  PoseSource poses = PoseSource::kNone;
+  RunLog log;
+  FrameReader reader;
+
+  int NumFrames() const { return f1 - f0; }
+  int NumViews() const { return cap.NumViews(); }
+  std::vector<Camera> Cameras(int frame) const {
+    std::vector<Camera> cams;
+    for (const CaptureView& v : cap.views) cams.push_back(v.CameraAt(frame));
+    return cams;
+  }
+};
+
+MaskSource ResolveMasks(const Capture& cap, MaskSource s) {
+  if (s != MaskSource::kAuto) return s;
+  return fs::is_directory(cap.root / "masks") ? MaskSource::kGiven : MaskSource::kUnsupervised;
+}
+
+PoseSource ResolvePoses(const Capture& cap, PoseSource s) {
+  if (s != PoseSource::kAuto) return s;
+  if (fs::is_directory(cap.root / "poses3d")) return PoseSource::kGiven3d;
+  if (fs::is_directory(cap.root / "poses2d")) return PoseSource::kFrom2d;
+  return PoseSource::kNone;
+}
+
+// Runs `body` (returning its item count) as stage `name` unless an earlier
+// run finished it; records time and peak memory, then run.json.
+template <typename Body>
+void RunStage(Context& c, const std::string& name, bool skip_if_done, Body body) {
+  if (skip_if_done && c.log.StageDone(name)) {
+    fmt::print("[{}] done by an earlier run, skipped\n", name);
+    return;
+  }
+  ResetPeakRss();
+  Timer timer;
+  const int items = body();
+  c.log.AddReport({name, timer.Seconds(), CurrentPeakRssBytes(), items});
+  c.log.MarkStage(name);
+  WriteRunLog(c.out, c.log);
+}
+
+// ---- poses ----
+
+std::vector<std::vector<Pose3d>> ComputePoses(Context& c) {
+  std::vector<std::vector<Pose3d>> poses(c.NumFrames());
+  if (c.poses == PoseSource::kGiven3d) {
+    const auto all = ReadGivenPoses3d(c.cap.root, c.f1, /*allow_missing=*/true);
+    int min_id = 1;
+    for (int k = 0; k < c.NumFrames(); ++k) {
+      poses[k] = all[c.f0 + k];
+      for (const Pose3d& p : poses[k]) min_id = std::min(min_id, p.person_id);
+    }
+    // Object ids must be >= 1: shift given ids (e.g. 0-based or -1) up.
+    for (auto& frame : poses)
+      for (Pose3d& p : frame) p.person_id += 1 - min_id;
+  } else if (c.poses == PoseSource::kFrom2d) {
+    Progress progress("poses", c.NumFrames(), c.o.progress);
+    std::vector<std::vector<Pose3d>> raw(c.NumFrames());
+    for (int k = 0; k < c.NumFrames(); ++k) {
+      const int f = c.f0 + k;
+      std::vector<std::vector<Pose2d>> per_view(c.NumViews());
+      for (int v = 0; v < c.NumViews(); ++v) {
+        const fs::path path = c.cap.root / layout::Poses2d(c.names[v], f);
+        if (fs::exists(path)) per_view[v] = ReadPoses2d(path);
+      }
+      raw[k] = TriangulatePoses(per_view, c.Cameras(f), c.o.pose);
+      progress.Tick();
+    }
+    poses = TrackPoses(raw, c.o.pose_tracking);
+    for (auto& frame : poses)
+      for (Pose3d& p : frame) p.person_id += 1;  // track ids start at 0
+  }
+  if (c.poses != PoseSource::kNone)
+    for (int k = 0; k < c.NumFrames(); ++k)
+      WritePoses3d(c.out / layout::ScenePoses3d(c.f0 + k), poses[k]);
+  return poses;
+}
+
+std::vector<std::vector<Pose3d>> ReadScenePoses(const Context& c) {
+  std::vector<std::vector<Pose3d>> poses(c.NumFrames());
+  if (c.poses == PoseSource::kNone) return poses;
+  for (int k = 0; k < c.NumFrames(); ++k)
+    poses[k] = ReadPoses3d(c.out / layout::ScenePoses3d(c.f0 + k));
+  return poses;
+}
+
+// ---- initial objects ----
+
+std::vector<cv::Mat> ReadGivenMasks(Context& c, int frame) {
+  std::vector<cv::Mat> masks(c.NumViews());
+  for (int v = 0; v < c.NumViews(); ++v) {
+    const fs::path png = c.cap.root / layout::Mask(c.names[v], frame);
+    if (!fs::exists(png)) continue;
+    masks[v] = ReadInstanceMask(png, c.cap.root / layout::MaskInfo(c.names[v], frame)).ids;
+    CheckImageSize(masks[v], c.cap.views[v].CameraAt(frame).width,
+                   c.cap.views[v].CameraAt(frame).height, png.string());
+  }
+  return masks;
+}
+
+int ComputeInitialObjects(Context& c, const std::vector<std::vector<Pose3d>>& poses) {
+  std::vector<BackgroundModel> backgrounds;
+  if (c.masks == MaskSource::kUnsupervised) {
+    for (int v = 0; v < c.NumViews(); ++v) {
+      U4D_CHECK(!c.cap.views[v].IsMoving(),
+                "view {} moves: unsupervised masks need static cameras (give masks/ instead)",
+                c.names[v]);
+      backgrounds.push_back(EstimateBackground(
+          c.cap.num_frames, [&](int f) { return c.reader.Read(v, f); }, c.o.background));
+    }
+  }
+  ObjectLinker linker;
+  Progress progress("initial", c.NumFrames(), c.o.progress);
+  for (int k = 0; k < c.NumFrames(); ++k) {
+    const int f = c.f0 + k;
+    const std::vector<Camera> cams = c.Cameras(f);
+    std::vector<cv::Mat> images(c.NumViews());
+    for (int v = 0; v < c.NumViews(); ++v) images[v] = c.reader.Read(v, f);
+    const std::vector<cv::Mat> masks =
+        c.masks == MaskSource::kGiven
+            ? ReadGivenMasks(c, f)
+            : UnsupervisedInstanceMasks(cams, images, backgrounds, c.o.init);
+    const FrameObjects objects =
+        c.poses != PoseSource::kNone
+            ? ObjectsFromPoses(cams, masks, poses[k], c.o.frame_setup)
+            : ObjectsFromSparse(cams, images, masks, c.o.sparse, c.o.regions, &linker);
+    WriteFrameObjects(c.out, c.names, f, objects);
+    progress.Tick();
+  }
+  return c.NumFrames();
+}
+
+// ---- temporal tracks ----
+
+std::vector<TemporalTrack> ComputeTracks(Context& c,
+                                         const std::vector<std::vector<Pose3d>>& poses) {
+  std::vector<TemporalTrack> all;
+  Progress progress("tracks", int64_t(c.NumFrames()) * c.NumViews(), c.o.progress);
+  for (int v = 0; v < c.NumViews(); ++v) {
+    std::vector<TemporalTrack> view_tracks;
+    for (int first = c.f0; first < c.f1; first += c.o.track_chunk_frames) {
+      const int last = std::min(c.f1, first + c.o.track_chunk_frames);
+      std::vector<FrameFeatures> features;
+      std::vector<cv::Mat> ids;
+      std::vector<std::vector<Pose3d>> chunk_poses;
+      for (int f = first; f < last; ++f) {
+        const fs::path png = c.out / layout::SceneInitialMask(c.names[v], f);
+        ids.push_back(fs::exists(png) ? ReadLabelImage(png) : cv::Mat());
+        features.push_back(DetectFrameFeatures(c.reader.Read(v, f), ids.back(), c.o.tracks));
+        chunk_poses.push_back(poses[f - c.f0]);
+        progress.Tick();
+      }
+      for (TemporalTrack& t : LinkFeatureTracks(v, first, features, c.o.tracks))
+        view_tracks.push_back(std::move(t));
+      if (c.poses != PoseSource::kNone && c.o.tracks.add_joint_tracks)
+        for (TemporalTrack& t : JointTracks(c.cap, v, first, chunk_poses, ids, c.o.tracks))
+          view_tracks.push_back(std::move(t));
+    }
+    WriteTemporalTracks(c.out / layout::SceneTracks(c.names[v]), c.names[v], v, view_tracks);
+    for (TemporalTrack& t : view_tracks) all.push_back(std::move(t));
+  }
+  return all;
+}
+
+std::vector<TemporalTrack> ReadSceneTracks(const Context& c) {
+  std::vector<TemporalTrack> all;
+  for (int v = 0; v < c.NumViews(); ++v)
+    for (TemporalTrack& t : ReadTemporalTracks(c.out / layout::SceneTracks(c.names[v]), v))
+      all.push_back(std::move(t));
+  return all;
+}
+
+// ---- key-frames ----
+
+KeyframeSelection ComputeKeyframes(Context& c, const std::vector<std::vector<Pose3d>>& poses,
+                                   const std::vector<TemporalTrack>& tracks) {
+  KeyframeObservations obs;
+  obs.num_frames = c.NumFrames();
+  obs.poses = poses;
+  obs.masks.resize(c.NumViews());
+  for (int k = 0; k < c.NumFrames(); ++k) {
+    const FrameObjects objects = ReadFrameObjects(c.out, c.names, c.f0 + k);
+    for (int v = 0; v < c.NumViews(); ++v) {
+      InstanceMask m;
+      if (!objects.ids[v].empty()) {
+        // The terms compare shapes and positions relative to the image, so a
+        // downscaled mask keeps them while bounding memory.
+        const cv::Mat small =
+            DownscaleToWidth(objects.ids[v], c.o.keyframe_mask_width, /*nearest=*/true);
+        m = ToInstanceMask(small);
+      }
+      obs.masks[v].push_back(m);
+    }
+  }
+  // Track frames relative to f0, as the observations'.
+  for (const TemporalTrack& t : tracks) {
+    TemporalTrack r = t;
+    for (auto& [frame, x] : r.points) frame -= c.f0;
+    obs.tracks.push_back(std::move(r));
+  }
+  const Eigen::MatrixXd ks = KeyframeSimilarityMatrix(obs, c.o.keyframes);
+  KeyframeSelection selection = SelectKeyframes(ks, c.o.keyframes.threshold);
+  WriteKeyframes(c.out / layout::SceneKeyframes(), selection);
+  return selection;
+}
+
+// ---- segments ----
+
+struct Segment {
+  int index = 0, keyframe = 0, first = 0, last = 0;  // capture frames
+};
+
+std::vector<Segment> Segments(const Context& c, const KeyframeSelection& sel) {
+  std::vector<Segment> segments(sel.keyframes.size());
+  for (size_t s = 0; s < segments.size(); ++s) {
+    segments[s].index = static_cast<int>(s);
+    segments[s].keyframe = c.f0 + sel.keyframes[s];
+    segments[s].first = c.f1;
+    segments[s].last = -1;
+  }
+  for (int k = 0; k < c.NumFrames(); ++k) {
+    Segment& s = segments.at(sel.frame_segment[k]);
+    s.first = std::min(s.first, c.f0 + k);
+    s.last = std::max(s.last, c.f0 + k);
+  }
+  return segments;
+}
+
+// One solved frame at the working resolution.
+struct SolvedFrame {
+  int frame = -1;
+  std::vector<Camera> cameras;  // working resolution
+  std::vector<cv::Mat> images;  // working resolution, BGR
+  std::vector<cv::Mat> labels, depth, flow;
+};
+
+SolvedFrame SolveFrame(Context& c, int f, const std::vector<std::vector<Pose3d>>& poses,
+                       const std::vector<TemporalTrack>& tracks, const JointViewOptions& joint) {
+  const int nv = c.NumViews();
+  auto in_run = [&](int g) { return g >= c.f0 && g < c.f1; };
+  JointFrameData data;
+  data.cameras_t = c.Cameras(f);
+  for (int v = 0; v < nv; ++v) data.images_t.push_back(c.reader.Read(v, f));
+  const FrameObjects objects = ReadFrameObjects(c.out, c.names, f);
+  data.masks_t = objects.ids;
+  if (f > 0) {
+    for (int v = 0; v < nv; ++v) data.images_prev.push_back(c.reader.Read(v, f - 1));
+    data.masks_prev =
+        in_run(f - 1) ? ReadFrameObjects(c.out, c.names, f - 1).ids : std::vector<cv::Mat>(nv);
+  }
+  if (f + 1 < c.cap.num_frames) {
+    data.cameras_t1 = c.Cameras(f + 1);
+    for (int v = 0; v < nv; ++v) data.images_t1.push_back(c.reader.Read(v, f + 1));
+    data.masks_t1 =
+        in_run(f + 1) ? ReadFrameObjects(c.out, c.names, f + 1).ids : std::vector<cv::Mat>(nv);
+    if (in_run(f + 1)) data.poses_t1 = poses[f + 1 - c.f0];
+  }
+  data.poses_t = poses[f - c.f0];
+  data.masks_are_object_ids = true;
+  if (c.poses == PoseSource::kNone) data.object_depth_ranges = objects.depth_ranges;
+  data.sparse.resize(nv);
+  for (int v = 0; v < nv; ++v) data.sparse[v] = SparseMotionsFromTracks(tracks, v, f);
+
+  SolvedFrame solved;
+  solved.frame = f;
+  if (c.poses != PoseSource::kNone && data.poses_t.empty()) {
+    // Nobody tracked in this frame: nothing to reconstruct.
+    data.poses_t.clear();
+  }
+  double scale = 1;
+  std::vector<JointViewInput> inputs;
+  const bool has_objects = c.poses == PoseSource::kNone || !data.poses_t.empty();
+  if (has_objects) {
+    inputs = MakeJointViewInputs(data, c.o.frame_setup, &scale);
+  } else {
+    scale = std::min(1.0, double(c.o.frame_setup.working_width) / data.cameras_t[0].width);
+  }
+  solved.labels.resize(nv);
+  solved.depth.resize(nv);
+  solved.flow.resize(nv);
+  for (int v = 0; v < nv; ++v) {
+    solved.cameras.push_back(ScaledCamera(data.cameras_t[v], scale));
+    cv::Mat img;
+    cv::resize(data.images_t[v], img, {solved.cameras[v].width, solved.cameras[v].height}, 0, 0,
+               cv::INTER_AREA);
+    solved.images.push_back(img);
+  }
+  tbb::parallel_for(0, nv, [&](int v) {
+    const Camera& cam = solved.cameras[v];
+    if (has_objects && !inputs[v].objects.empty()) {
+      const JointViewResult r = SolveJointView(inputs[v], joint);
+      solved.labels[v] = r.labels;
+      solved.depth[v] = r.depth;
+      solved.flow[v] = r.flow.empty() ? cv::Mat::zeros(cam.height, cam.width, CV_32FC2) : r.flow;
+    } else {
+      solved.labels[v] = cv::Mat::zeros(cam.height, cam.width, CV_16U);
+      solved.depth[v] = cv::Mat::zeros(cam.height, cam.width, CV_32F);
+      solved.flow[v] = cv::Mat::zeros(cam.height, cam.width, CV_32FC2);
+    }
+  });
+  // The scene's maps at camera size.
+  for (int v = 0; v < nv; ++v) {
+    JointViewResult r;
+    r.labels = solved.labels[v];
+    r.depth = solved.depth[v];
+    r.flow = solved.flow[v];
+    const Camera& full = data.cameras_t[v];
+    WriteViewMaps(c.out, c.names[v], f, ToCameraSize(r, full.width, full.height, scale),
+                  data.images_t[v], c.o.picture_width);
+  }
+  return solved;
+}
+
+std::set<int> ObjectIds(const SolvedFrame& s) {
+  std::set<int> ids;
+  for (const cv::Mat& l : s.labels)
+    for (int y = 0; y < l.rows; ++y)
+      for (int x = 0; x < l.cols; ++x)
+        if (const int id = l.at<uint16_t>(y, x)) ids.insert(id);
+  return ids;
+}
+
+void RunSegment(Context& c, const Segment& seg, const std::vector<std::vector<Pose3d>>& poses,
+                const std::vector<TemporalTrack>& tracks, const JointViewOptions& joint,
+                Progress* progress) {
+  std::map<int, AnimatedMesh> animations;  // object id -> its mesh moving through the segment
+  SolvedFrame previous;
+  for (int f = seg.first; f <= seg.last; ++f) {
+    SolvedFrame current = SolveFrame(c, f, poses, tracks, joint);
+    // Fusion: one mesh per object.
+    for (int id : ObjectIds(current)) {
+      const FusedMesh fused = FuseObject(current.cameras, current.depth, current.labels,
+                                         current.images, id, c.o.fusion);
+      if (fused.Empty()) continue;
+      WriteLabelledMesh(c.out / layout::SceneMesh(id, f), *fused.mesh, id);
+      if (f == seg.first) {
+        AnimatedMesh& a = animations[id];
+        a.object_id = id;
+        a.first_frame = f;
+        a.triangles = fused.mesh->triangles_;
+        for (const Eigen::Vector3d& col : fused.mesh->vertex_colors_) a.colors.push_back(col);
+        a.positions.push_back(fused.mesh->vertices_);
+      }
+    }
+    // Scene flow: the segment's meshes from f-1 to f.
+    if (f > seg.first) {
+      std::vector<SceneFlowView> views(c.NumViews());
+      for (int v = 0; v < c.NumViews(); ++v)
+        views[v] = {previous.cameras[v], current.cameras[v], previous.depth[v], current.depth[v],
+                    previous.flow[v],    previous.labels[v], current.labels[v]};
+      for (auto& [id, a] : animations) {
+        const TrackResult r =
+            TrackVertices(a.positions.back(), a.triangles, views, id, c.o.scene_flow);
+        a.positions.push_back(r.positions);
+        a.tracked_fraction.push_back(
+            r.positions.empty() ? 0.0 : double(r.num_tracked) / r.positions.size());
+      }
+    }
+    previous = std::move(current);
+    if (progress) progress->Tick();
+  }
+  const fs::path dir = c.out / layout::SceneSegmentDir(seg.index);
+  nlohmann::json objects = nlohmann::json::object();
+  for (const auto& [id, a] : animations) {
+    if (a.triangles.empty()) continue;
+    const std::string glb = fmt::format("{}.glb", id);
+    WriteSegmentGlb(dir / glb, a, c.o.gltf);
+    objects[std::to_string(id)] = {
+        {"glb", glb}, {"vertices", a.NumVertices()}, {"tracked_fraction", a.tracked_fraction}};
+  }
+  WriteJsonFileAtomic(dir / "segment.json", {{"index", seg.index},
+                                             {"keyframe", seg.keyframe},
+                                             {"first", seg.first},
+                                             {"last", seg.last},
+                                             {"objects", objects}});
+}
+
+// ---- scene.json ----
+
+void WriteIndex(const Context& c, const KeyframeSelection& sel, const std::vector<Segment>& segs,
+                bool has_eval) {
+  SceneIndex index;
+  index.name = c.cap.name;
+  index.fps = c.cap.fps;
+  for (int f = c.f0; f < c.f1; ++f) index.frames.push_back(f);
+  for (const CaptureView& v : c.cap.views)
+    index.views.push_back({v.name, v.cameras.front().width, v.cameras.front().height});
+  index.pictures = {"image", "instances", "depth", "flow"};
+  std::set<int> ids;
+  if (fs::is_directory(c.out / "meshes"))
+    for (const auto& e : fs::directory_iterator(c.out / "meshes"))
+      if (e.is_directory()) ids.insert(std::stoi(e.path().filename().string()));
+  for (int id : ids) {
+    const cv::Vec3b col = InstanceColor(id);
+    index.objects.push_back({id, "person", {col[0], col[1], col[2]}});
+  }
+  index.has_meshes = !ids.empty();
+  for (size_t s = 0; s < sel.keyframes.size(); ++s) {
+    SceneKeyframeInfo kf{c.f0 + sel.keyframes[s], {}};
+    for (int k = 0; k < c.NumFrames(); ++k)
+      if (sel.frame_keyframe[k] == sel.keyframes[s]) kf.members.push_back(c.f0 + k);
+    index.keyframes.push_back(kf);
+  }
+  for (const Segment& seg : segs) {
+    if (!c.log.segments_done.count(seg.index)) continue;
+    SceneSegmentInfo info{
+        seg.index, seg.keyframe, seg.first, seg.last, layout::SceneSegmentDir(seg.index).string(),
+        {}};
+    for (int id : ids) {
+      const fs::path glb = layout::SceneSegmentDir(seg.index) / fmt::format("{}.glb", id);
+      if (fs::exists(c.out / glb)) info.glb[id] = glb.string();
+    }
+    index.segments.push_back(info);
+  }
+  index.has_poses3d = c.poses != PoseSource::kNone;
+  index.has_tracks = c.log.StageDone("tracks");
+  index.has_eval = has_eval;
+  index.stages_done = c.log.stages_done;
+  WriteSceneIndex(c.out, index);
+}
+
+// Refuses to mix two runs' results in one directory.
+void CheckResumable(const fs::path& out, const nlohmann::json& params, bool resume) {
+  const fs::path path = out / layout::SceneParams();
+  if (!resume || !fs::exists(path)) return;
+  const nlohmann::json before = ReadJsonFile(path);
+  U4D_CHECK(before == params,
+            "{} holds a run with other options or another capture; write to a new directory, or "
+            "run with --no-resume to recompute everything there",
+            out.string());
+}
+
+}  // namespace
+
+RunResult RunPipeline(const fs::path& capture_dir, const fs::path& scene_dir,
+                      const RunOptions& options) {
+  options.Check();
+  const Capture cap = ReadCapture(capture_dir);
+  const int f1 = options.num_frames < 0
+                     ? cap.num_frames
+                     : std::min(cap.num_frames, options.first_frame + options.num_frames);
+  U4D_CHECK(options.first_frame < cap.num_frames,
+            "first frame {} is beyond the capture's {} frames", options.first_frame,
+            cap.num_frames);
+  Context c{cap, scene_dir, options, options.first_frame, f1, {}, {}, {}, {}, FrameReader(cap)};
+  for (const CaptureView& v : cap.views) c.names.push_back(v.name);
+  c.masks = ResolveMasks(cap, options.masks);
+  c.poses = ResolvePoses(cap, options.poses);
+  std::unique_ptr<tbb::global_control> threads;
+  if (options.threads > 0)
+    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                    options.threads);
+
+  nlohmann::json params = options.ToJson();
+  params["capture"] = fs::absolute(cap.root).lexically_normal().string();
+  params["masks_used"] = ToString(c.masks);
+  params["poses_used"] = ToString(c.poses);
+  CheckResumable(scene_dir, params, options.resume);
+  fs::create_directories(scene_dir);
+  if (options.resume && fs::exists(scene_dir / layout::SceneRunLog()))
+    c.log = ReadRunLog(scene_dir);
+  c.log.capture = params["capture"];
+  c.log.masks = ToString(c.masks);
+  c.log.poses = ToString(c.poses);
+  c.log.stages.clear();
+  if (!options.resume) c.log.stages_done.clear(), c.log.segments_done.clear();
+  WriteJsonFileAtomic(scene_dir / layout::SceneParams(), params);
+  WriteJsonFileAtomic(scene_dir / layout::SceneCalibration(), CalibrationToJson(cap));
+  fmt::print("u4d run: {} frames [{}, {}) of {} views; masks: {}; poses: {}\n", c.NumFrames(), c.f0,
+             c.f1, c.NumViews(), ToString(c.masks), ToString(c.poses));
+
+  std::vector<std::vector<Pose3d>> poses(c.NumFrames());
+  const bool poses_done = c.log.StageDone("poses");
+  RunStage(c, "poses", true, [&] {
+    poses = ComputePoses(c);
+    return c.NumFrames();
+  });
+  if (poses_done) poses = ReadScenePoses(c);
+  RunStage(c, "initial", true, [&] { return ComputeInitialObjects(c, poses); });
+  std::vector<TemporalTrack> tracks;
+  const bool tracks_done = c.log.StageDone("tracks");
+  RunStage(c, "tracks", true, [&] {
+    tracks = ComputeTracks(c, poses);
+    return c.NumFrames() * c.NumViews();
+  });
+  if (tracks_done) tracks = ReadSceneTracks(c);
+  KeyframeSelection selection;
+  const bool keyframes_done = c.log.StageDone("keyframes");
+  RunStage(c, "keyframes", true, [&] {
+    selection = ComputeKeyframes(c, poses, tracks);
+    return c.NumFrames();
+  });
+  if (keyframes_done) selection = ReadKeyframes(scene_dir / layout::SceneKeyframes());
+  U4D_CHECK(static_cast<int>(selection.frame_segment.size()) == c.NumFrames(),
+            "{}: the key-frames cover {} frames, the run {}",
+            (scene_dir / layout::SceneKeyframes()).string(), selection.frame_segment.size(),
+            c.NumFrames());
+  const std::vector<Segment> segments = Segments(c, selection);
+
+  JointViewOptions joint = options.joint;
+  if (options.paper_weights) joint.weights = PaperWeights(cap.scene, c.NumViews());
+  joint.terms = AblationTerms(options.ablation);
+  if (c.poses == PoseSource::kNone) joint.terms.pose = false;
+
+  RunResult result;
+  int frames_to_solve = 0;
+  for (const Segment& s : segments)
+    if (!c.log.segments_done.count(s.index)) frames_to_solve += s.last - s.first + 1;
+  RunStage(c, "segments", false, [&] {
+    Progress progress("segments (frames)", frames_to_solve, options.progress);
+    int solved = 0;
+    for (const Segment& s : segments) {
+      if (c.log.segments_done.count(s.index)) {
+        ++result.segments_skipped;
+        continue;
+      }
+      RunSegment(c, s, poses, tracks, joint, &progress);
+      c.log.segments_done.insert(s.index);
+      WriteRunLog(c.out, c.log);
+      WriteIndex(c, selection, segments, false);
+      solved += s.last - s.first + 1;
+    }
+    return solved;
+  });
+
+  const bool whole = c.f0 == 0 && c.f1 == cap.num_frames;
+  if (options.evaluate && fs::is_directory(cap.root / "gt") && whole) {
+    RunStage(c, "eval", false, [&] {
+      const eval::EvalReport report = eval::EvaluateCapture({cap.root, scene_dir, false});
+      WriteJsonFileAtomic(scene_dir / layout::SceneEval(), report.ToJson());
+      fmt::print("{}", report.FormatTable());
+      return 1;
+    });
+    result.evaluated = true;
+  }
+  WriteIndex(c, selection, segments, result.evaluated);
+
+  result.log = c.log;
+  result.frames = c.NumFrames();
+  result.views = c.NumViews();
+  result.objects = static_cast<int>(ReadSceneIndex(scene_dir).objects.size());
+  result.keyframes = static_cast<int>(selection.keyframes.size());
+  result.segments = static_cast<int>(segments.size());
+  return result;
+}
+
+}  // namespace u4d

@@ -1,0 +1,46 @@
+// run.json of a 4D scene: what a run has finished, so that an interrupted run
+// resumes without redoing it, and the time and memory each stage took.
+//
+//   {"format": "u4d-run", "capture": "/path", "masks": "given", "poses": "from2d",
+//    "stages_done": ["poses", "initial", ...], "segments_done": [0, 1],
+//    "stages": [{"name": "joint", "seconds": 12.5, "peak_rss_mb": 820, "items": 48}]}
+//
+// A stage or segment is recorded only after every file it writes exists
+// (each file is itself written atomically), so a recorded one is complete.
+#pragma once
+
+#include <set>
+#include <string>
+#include <vector>
+
+#include "u4d/util/file.h"
+
+namespace u4d {
+
+struct StageReport {
+  std::string name;
+  double seconds = 0;
+  int64_t peak_rss_bytes = 0;  // the stage's peak resident memory (util/timer.h)
+  int items = 0;               // frames, views or segments processed
+};
+
+struct RunLog {
+  std::string capture;
+  std::string masks, poses;  // the sources used (run_options.h names)
+  std::vector<std::string> stages_done;
+  std::set<int> segments_done;
+  std::vector<StageReport> stages;  // this run's stages, in order
+
+  bool StageDone(const std::string& name) const;
+  void MarkStage(const std::string& name);  // appends once
+  // Adds or accumulates (resumed runs add to an existing entry).
+  void AddReport(const StageReport& report);
+  // A table: stage, seconds, peak memory, items.
+  std::string FormatTable() const;
+};
+
+void WriteRunLog(const fs::path& scene_dir, const RunLog& log);
+// Throws u4d::Error naming the file when it is not a u4d-run file.
+RunLog ReadRunLog(const fs::path& scene_dir);
+
+}  // namespace u4d

@@ -1,0 +1,79 @@
+// Options of `u4d run` (pipeline.h): which inputs to use, the frame range,
+// the working resolution and every stage's algorithm options. They are
+// written to the scene's params.json, and a resumed run must use the same.
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "u4d/features/object_regions.h"
+#include "u4d/features/sparse_points.h"
+#include "u4d/features/temporal_tracks.h"
+#include "u4d/fusion/depth_fusion.h"
+#include "u4d/fusion/gltf.h"
+#include "u4d/fusion/scene_flow.h"
+#include "u4d/init/init.h"
+#include "u4d/joint/frame_setup.h"
+#include "u4d/joint/joint_view.h"
+#include "u4d/keyframes/keyframe_similarity.h"
+#include "u4d/pose/multiview_pose.h"
+#include "u4d/pose/pose_tracking.h"
+
+namespace u4d {
+
+// Where the initial instance masks come from.
+enum class MaskSource {
+  kAuto,          // the capture's masks/ when present, else unsupervised
+  kGiven,         // masks/<view>/<frame>.png (a missing file = nothing detected)
+  kUnsupervised,  // init/ (background model + people detector + cross-view check)
+};
+// Where the 3D poses come from.
+enum class PoseSource {
+  kAuto,     // poses3d/, else poses2d/ triangulated, else none
+  kGiven3d,  // poses3d/<frame>.json (given skeletons, paper Sec. 2.1.1)
+  kFrom2d,   // poses2d/<view>/<frame>.json triangulated and tracked (pose/)
+  kNone,     // no poses: objects from the cross-view association, no pose term
+};
+std::string ToString(MaskSource s);
+std::string ToString(PoseSource s);
+MaskSource MaskSourceFromString(const std::string& s);  // throws u4d::Error on an unknown name
+PoseSource PoseSourceFromString(const std::string& s);
+
+struct RunOptions {
+  int first_frame = 0;
+  int num_frames = -1;  // -1: to the end of the capture
+  MaskSource masks = MaskSource::kAuto;
+  PoseSource poses = PoseSource::kAuto;
+  std::string ablation = "full";  // joint::AblationTerms: full, P_M, P_P, P_PM, P_S, P_PS
+  int picture_width = 480;        // viewer pictures (0 = the camera's width)
+  int track_chunk_frames = 40;    // temporal tracks are linked within chunks of this many
+                                  // frames (bounded memory on long captures)
+  int keyframe_mask_width = 240;  // masks are downscaled to this width for KS_ij
+  bool evaluate = true;           // write eval.json when the capture has gt/
+  bool resume = true;             // skip the segments an earlier run finished
+  int threads = 0;                // views solved in parallel (0 = TBB's default)
+  bool progress = true;           // progress bars on stderr
+
+  BackgroundOptions background;   // unsupervised masks: the background model
+  InitOptions init;               // unsupervised masks: foreground, people, cross-view check
+  FrameSetupOptions frame_setup;  // working width, depth margins
+  JointViewOptions joint;         // the energy; weights default to PaperWeights at run time
+  bool paper_weights = true;      // set joint.weights from the paper's table for the capture
+  MultiViewPoseOptions pose;
+  PoseTrackerOptions pose_tracking;
+  SparseFrameOptions sparse;
+  ObjectRegionOptions regions;
+  TemporalTrackOptions tracks;
+  KeyframeOptions keyframes;
+  FusionOptions fusion;
+  TrackOptions scene_flow;
+  GltfOptions gltf;
+
+  void Check() const;  // throws u4d::Error naming the bad field
+  // The options that change results (not threads/progress/resume), for
+  // params.json and the resume check.
+  nlohmann::json ToJson() const;
+};
+
+}  // namespace u4d
