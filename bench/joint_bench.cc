@@ -10,7 +10,9 @@
 // A plain executable that prints; run from a Release build:
 //   build/bench/joint_bench [--views 8] [--width 480] [--height 270] [--frames 4]
 //       [--start 128] [--preset handshake|meetup] [--sparse 150] [--no-ablations]
-//       [--max-views N] [--working-width 480]
+//       [--max-views N] [--working-width 480] [--methods full,P_M,...]
+//       [--reg-boundary free|discontinuity|ignore] [--weights '{"pose": 0.9}'] [--no-cross-view]
+//       [--reg-linear] [--no-reg-edge]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -50,6 +52,13 @@ struct Args {
   bool ablations = true;
   int max_views = -1;  // views solved per frame (-1 = all)
   int working_width = 480;
+  std::string weights;      // JSON overriding PaperWeights (keys of ToJson(JointWeights))
+  bool cross_view = true;   // e_F^V on
+  bool reg_linear = false;  // E_r truncated linear instead of quadratic
+  bool reg_edge = true;     // E_r weight times the colour contrast weight (default on)
+  std::string methods;      // comma-separated subset of full and the ablations (empty = all)
+  std::string
+      reg_boundary;  // E_r at label boundaries: free | discontinuity | ignore (empty = default)
 };
 
 Args ParseArgs(int argc, char** argv) {
@@ -80,10 +89,23 @@ Args ParseArgs(int argc, char** argv) {
       a.max_views = std::stoi(next());
     else if (k == "--working-width")
       a.working_width = std::stoi(next());
+    else if (k == "--weights")
+      a.weights = next();
+    else if (k == "--no-reg-edge")
+      a.reg_edge = false;
+    else if (k == "--reg-linear")
+      a.reg_linear = true;
+    else if (k == "--no-cross-view")
+      a.cross_view = false;
+    else if (k == "--methods")
+      a.methods = next();
+    else if (k == "--reg-boundary")
+      a.reg_boundary = next();
     else
       throw Error(fmt::format(
           "joint_bench: unknown argument '{}' (expected --views, --width, --height, --frames, "
-          "--start, --preset, --sparse, --no-ablations, --max-views, --working-width)",
+          "--start, --preset, --sparse, --no-ablations, --max-views, --working-width, --methods, "
+          "--reg-boundary, --weights, --no-cross-view, --reg-linear, --no-reg-edge)",
           k));
   }
   U4D_CHECK(a.frames >= 3, "joint_bench: --frames must be >= 3 (frames 1..frames-2 are solved)");
@@ -157,6 +179,12 @@ int main(int argc, char** argv) try {
   std::vector<std::string> methods = {"full"};
   if (args.ablations)
     for (const char* m : {"P_M", "P_P", "P_PM", "P_S", "P_PS"}) methods.push_back(m);
+  if (!args.methods.empty()) {
+    methods.clear();
+    std::string rest = args.methods + ",";
+    for (size_t pos; (pos = rest.find(',')) != std::string::npos; rest.erase(0, pos + 1))
+      if (pos > 0) methods.push_back(rest.substr(0, pos));
+  }
 
   std::map<std::string, Stats> stats;
   std::vector<std::string> order = {"initial", "grabcut", "wta", "zero"};
@@ -179,6 +207,21 @@ int main(int argc, char** argv) try {
     const std::vector<JointViewInput> inputs = MakeJointViewInputs(data, setup, &scale);
     JointViewOptions options;
     options.weights = PaperWeights(capture.scene, capture.NumViews());
+    if (!args.weights.empty())
+      UpdateFromJson(nlohmann::json::parse(args.weights), "--weights", &options.weights);
+    options.flow.cross_view = args.cross_view;
+    options.motion_reg_quadratic = !args.reg_linear;
+    options.motion_reg_edge_aware = args.reg_edge;
+    if (args.reg_boundary == "free")
+      options.motion_reg_boundary = MotionRegBoundary::kFree;
+    else if (args.reg_boundary == "discontinuity")
+      options.motion_reg_boundary = MotionRegBoundary::kDiscontinuity;
+    else if (args.reg_boundary == "ignore")
+      options.motion_reg_boundary = MotionRegBoundary::kIgnoreLabels;
+    else
+      U4D_CHECK(args.reg_boundary.empty(),
+                "joint_bench: --reg-boundary must be free, discontinuity or ignore, got '{}'",
+                args.reg_boundary);
     const int nv =
         args.max_views > 0 ? std::min(args.max_views, capture.NumViews()) : capture.NumViews();
     for (int v = 0; v < nv; ++v) {

@@ -44,13 +44,13 @@ inline float ColourCost(const cv::Vec3f& a, const cv::Vec3f& b) {
 
 bool IsInteger(float v) { return v == std::round(v); }
 
-void CheckColour(const cv::Mat& img, const Camera& cam, const std::string& what) {
-  U4D_CHECK(!img.empty(), "ComputeFlowCostVolume: {} is empty", what);
-  U4D_CHECK(img.type() == CV_8UC3,
-            "ComputeFlowCostVolume: {} must be BGR 8-bit (CV_8UC3), got type {}", what, img.type());
+void CheckColour(const char* fn, const cv::Mat& img, const Camera& cam, const std::string& what) {
+  U4D_CHECK(!img.empty(), "{}: {} is empty", fn, what);
+  U4D_CHECK(img.type() == CV_8UC3, "{}: {} must be BGR 8-bit (CV_8UC3), got type {}", fn, what,
+            img.type());
   U4D_CHECK(img.cols == cam.width && img.rows == cam.height,
-            "ComputeFlowCostVolume: {} is {}x{} but its camera is {}x{}", what, img.cols, img.rows,
-            cam.width, cam.height);
+            "{}: {} is {}x{} but its camera is {}x{}", fn, what, img.cols, img.rows, cam.width,
+            cam.height);
 }
 
 // Per other view i at t+1: pixel homogeneous h(p, m) = h0_i(p) + A_i[:, 0:2] m
@@ -61,69 +61,65 @@ struct CrossViewGeometry {
   std::vector<Eigen::Vector3f> h0;  // per pixel; unused where the depth is unknown
 };
 
-}  // namespace
+// Checked inputs and everything E_f's photometric terms need (shared by the
+// cost volume and the per-field evaluation).
+struct Prepared {
+  int W = 0, H = 0;
+  cv::Mat ref_t, ref_t1;          // CV_32FC3 in [0, 1]
+  std::vector<uint8_t> in_roi;    // per pixel: compute
+  std::vector<uint8_t> needed;    // per pixel: enters the patch of a roi pixel
+  bool use_cross = false;         // e_F^V on
+  std::vector<cv::Mat> other_t1;  // indexed like `geometry`
+  std::vector<CrossViewGeometry> geometry;
+  bool distorted = false;
+};
 
-void FlowCostOptions::Check() const {
-  U4D_CHECK(patch_radius >= 0 && patch_radius <= 32,
-            "FlowCostOptions.patch_radius must be in [0, 32], got {}", patch_radius);
-  U4D_CHECK(
-      std::isfinite(max_view_angle_deg) && max_view_angle_deg > 0 && max_view_angle_deg <= 180,
-      "FlowCostOptions.max_view_angle_deg must be in (0, 180], got {}", max_view_angle_deg);
-  U4D_CHECK(std::isfinite(truncation) && truncation > 0,
-            "FlowCostOptions.truncation must be finite and > 0, got {}", truncation);
-}
-
-MotionCostVolume ComputeFlowCostVolume(const FlowCostInput& input,
-                                       const std::vector<Eigen::Vector2f>& motions,
-                                       const MotionLabelOptions& label_options,
-                                       const FlowCostOptions& options) {
-  options.Check();
-  label_options.Check();
+Prepared Prepare(const FlowCostInput& input, const FlowCostOptions& options, const char* fn) {
+  Prepared P;
   const int num_views = static_cast<int>(input.images_t1.size());
-  U4D_CHECK(num_views >= 1, "ComputeFlowCostVolume: no images at t+1");
+  U4D_CHECK(num_views >= 1, "{}: no images at t+1", fn);
   U4D_CHECK(input.ref_view >= 0 && input.ref_view < num_views,
-            "ComputeFlowCostVolume: ref_view {} out of range [0, {})", input.ref_view, num_views);
+            "{}: ref_view {} out of range [0, {})", fn, input.ref_view, num_views);
   U4D_CHECK(static_cast<int>(input.cameras_t.size()) == num_views &&
                 static_cast<int>(input.cameras_t1.size()) == num_views,
-            "ComputeFlowCostVolume: expected {} cameras at t and t+1 (one per image at t+1), got "
+            "{}: expected {} cameras at t and t+1 (one per image at t+1), got "
             "{} and {}",
-            num_views, input.cameras_t.size(), input.cameras_t1.size());
+            fn, num_views, input.cameras_t.size(), input.cameras_t1.size());
   U4D_CHECK(static_cast<int>(input.images_t.size()) > input.ref_view,
-            "ComputeFlowCostVolume: images_t has no image of the reference view {}",
-            input.ref_view);
-  U4D_CHECK(!motions.empty(), "ComputeFlowCostVolume: the motion label set is empty");
-  for (size_t l = 0; l < motions.size(); ++l)
-    U4D_CHECK(motions[l].allFinite(), "ComputeFlowCostVolume: motion label {} is not finite", l);
+            "{}: images_t has no image of the reference view {}", fn, input.ref_view);
   const int r = input.ref_view;
   const Camera& cam_t = input.cameras_t[r];
   const Camera& cam_t1 = input.cameras_t1[r];
-  cam_t.Check("ComputeFlowCostVolume: reference camera at t");
-  cam_t1.Check("ComputeFlowCostVolume: reference camera at t+1");
+  cam_t.Check(fmt::format("{}: reference camera at t", fn));
+  cam_t1.Check(fmt::format("{}: reference camera at t+1", fn));
   U4D_CHECK(cam_t.width == cam_t1.width && cam_t.height == cam_t1.height,
-            "ComputeFlowCostVolume: reference camera is {}x{} at t but {}x{} at t+1", cam_t.width,
-            cam_t.height, cam_t1.width, cam_t1.height);
-  CheckColour(input.images_t[r], cam_t, fmt::format("images_t[{}] (reference)", r));
-  CheckColour(input.images_t1[r], cam_t1, fmt::format("images_t1[{}] (reference)", r));
+            "{}: reference camera is {}x{} at t but {}x{} at t+1", fn, cam_t.width, cam_t.height,
+            cam_t1.width, cam_t1.height);
+  CheckColour(fn, input.images_t[r], cam_t, fmt::format("images_t[{}] (reference)", r));
+  CheckColour(fn, input.images_t1[r], cam_t1, fmt::format("images_t1[{}] (reference)", r));
   const int W = cam_t.width, H = cam_t.height, N = W * H;
+  P.W = W, P.H = H;
   if (!input.depth_t.empty())
     U4D_CHECK(
         input.depth_t.type() == CV_32FC1 && input.depth_t.cols == W && input.depth_t.rows == H,
-        "ComputeFlowCostVolume: depth_t must be CV_32FC1 {}x{}, got type {} {}x{}", W, H,
-        input.depth_t.type(), input.depth_t.cols, input.depth_t.rows);
+        "{}: depth_t must be CV_32FC1 {}x{}, got type {} {}x{}", fn, W, H, input.depth_t.type(),
+        input.depth_t.cols, input.depth_t.rows);
   if (!input.roi.empty())
     U4D_CHECK(input.roi.type() == CV_8UC1 && input.roi.cols == W && input.roi.rows == H,
-              "ComputeFlowCostVolume: roi must be CV_8UC1 {}x{}, got type {} {}x{}", W, H,
-              input.roi.type(), input.roi.cols, input.roi.rows);
+              "{}: roi must be CV_8UC1 {}x{}, got type {} {}x{}", fn, W, H, input.roi.type(),
+              input.roi.cols, input.roi.rows);
 
-  const cv::Mat ref_t = ToFloat(input.images_t[r]);
-  const cv::Mat ref_t1 = ToFloat(input.images_t1[r]);
-  std::vector<uint8_t> in_roi(N, 1);
+  P.ref_t = ToFloat(input.images_t[r]);
+  P.ref_t1 = ToFloat(input.images_t1[r]);
+  std::vector<uint8_t>& in_roi = P.in_roi;
+  in_roi.assign(N, 1);
   if (!input.roi.empty())
     for (int y = 0; y < H; ++y)
       for (int x = 0; x < W; ++x) in_roi[y * W + x] = input.roi.at<uint8_t>(y, x) != 0;
 
   // Pixels whose per-pixel costs enter the patch of some roi pixel.
-  std::vector<uint8_t> needed = in_roi;
+  std::vector<uint8_t>& needed = P.needed;
+  needed = in_roi;
   if (!input.roi.empty() && options.patch_radius > 0) {
     cv::Mat grown;
     const int k = 2 * options.patch_radius + 1;
@@ -132,18 +128,19 @@ MotionCostVolume ComputeFlowCostVolume(const FlowCostInput& input,
   }
 
   // e_F^V set-up: the other views at t+1 and their geometry.
-  const bool use_cross = options.cross_view && !input.depth_t.empty() && num_views > 1;
-  std::vector<cv::Mat> other_t1;  // indexed like `geometry`
-  std::vector<CrossViewGeometry> geometry;
-  bool distorted = false;
+  const bool use_cross = P.use_cross =
+      options.cross_view && !input.depth_t.empty() && num_views > 1;
+  std::vector<cv::Mat>& other_t1 = P.other_t1;
+  std::vector<CrossViewGeometry>& geometry = P.geometry;
+  bool& distorted = P.distorted;
   if (use_cross) {
     distorted = cam_t.HasDistortion() || cam_t1.HasDistortion();
     const Eigen::Matrix3d k_inv = cam_t1.K.inverse();
     for (int i = 0; i < num_views; ++i) {
       if (i == r) continue;
       const Camera& ci = input.cameras_t1[i];
-      ci.Check(fmt::format("ComputeFlowCostVolume: camera {} at t+1", i));
-      CheckColour(input.images_t1[i], ci, fmt::format("images_t1[{}]", i));
+      ci.Check(fmt::format("{}: camera {} at t+1", fn, i));
+      CheckColour(fn, input.images_t1[i], ci, fmt::format("images_t1[{}]", i));
       const double cos_angle = ci.ViewDirection().dot(cam_t1.ViewDirection());
       if (cos_angle < std::cos(options.max_view_angle_deg * M_PI / 180) - 1e-9) continue;
       distorted = distorted || ci.HasDistortion();
@@ -164,6 +161,43 @@ MotionCostVolume ComputeFlowCostVolume(const FlowCostInput& input,
       geometry.push_back(std::move(g));
     }
   }
+
+  return P;
+}
+
+}  // namespace
+
+void FlowCostOptions::Check() const {
+  U4D_CHECK(patch_radius >= 0 && patch_radius <= 32,
+            "FlowCostOptions.patch_radius must be in [0, 32], got {}", patch_radius);
+  U4D_CHECK(
+      std::isfinite(max_view_angle_deg) && max_view_angle_deg > 0 && max_view_angle_deg <= 180,
+      "FlowCostOptions.max_view_angle_deg must be in (0, 180], got {}", max_view_angle_deg);
+  U4D_CHECK(std::isfinite(truncation) && truncation > 0,
+            "FlowCostOptions.truncation must be finite and > 0, got {}", truncation);
+}
+
+MotionCostVolume ComputeFlowCostVolume(const FlowCostInput& input,
+                                       const std::vector<Eigen::Vector2f>& motions,
+                                       const MotionLabelOptions& label_options,
+                                       const FlowCostOptions& options) {
+  options.Check();
+  label_options.Check();
+  U4D_CHECK(!motions.empty(), "ComputeFlowCostVolume: the motion label set is empty");
+  for (size_t l = 0; l < motions.size(); ++l)
+    U4D_CHECK(motions[l].allFinite(), "ComputeFlowCostVolume: motion label {} is not finite", l);
+  const Prepared P = Prepare(input, options, "ComputeFlowCostVolume");
+  const int r = input.ref_view;
+  const Camera& cam_t1 = input.cameras_t1[r];
+  const int W = P.W, H = P.H, N = W * H;
+  const cv::Mat& ref_t = P.ref_t;
+  const cv::Mat& ref_t1 = P.ref_t1;
+  const std::vector<uint8_t>& in_roi = P.in_roi;
+  const std::vector<uint8_t>& needed = P.needed;
+  const bool use_cross = P.use_cross;
+  const std::vector<cv::Mat>& other_t1 = P.other_t1;
+  const std::vector<CrossViewGeometry>& geometry = P.geometry;
+  const bool distorted = P.distorted;
 
   // e_F^S set-up: per pixel the bitset of allowed labels (empty = all allowed).
   const int L = static_cast<int>(motions.size());
@@ -319,6 +353,85 @@ MotionCostVolume ComputeFlowCostVolume(const FlowCostInput& input,
     }
   });
   return volume;
+}
+
+cv::Mat FlowFieldCosts(const FlowCostInput& input, const cv::Mat& flow,
+                       const FlowCostOptions& options) {
+  options.Check();
+  const Prepared P = Prepare(input, options, "FlowFieldCosts");
+  const int W = P.W, H = P.H;
+  U4D_CHECK(flow.type() == CV_32FC2 && flow.cols == W && flow.rows == H,
+            "FlowFieldCosts: flow must be CV_32FC2 {}x{}, got type {} {}x{}", W, H, flow.type(),
+            flow.cols, flow.rows);
+  const int r = input.ref_view;
+  const Camera& cam_t1 = input.cameras_t1[r];
+  const float trunc = static_cast<float>(options.truncation);
+  const int pr = options.patch_radius;
+  const float patch_area = static_cast<float>((2 * pr + 1) * (2 * pr + 1));
+  cv::Mat out(H, W, CV_32F, cv::Scalar(0));
+  tbb::parallel_for(0, H, [&](int y) {
+    float* row = out.ptr<float>(y);
+    for (int x = 0; x < W; ++x) {
+      if (!P.in_roi[y * W + x]) continue;
+      const cv::Vec2f fv = flow.at<cv::Vec2f>(y, x);
+      const Eigen::Vector2f m(fv[0], fv[1]);
+      U4D_CHECK(m.allFinite(), "FlowFieldCosts: flow at ({}, {}) is not finite", x, y);
+      float cost = 0;
+      if (options.temporal) {  // as the volume: replicate border, normalised box
+        float sum = 0;
+        for (int dy = -pr; dy <= pr; ++dy)
+          for (int dx = -pr; dx <= pr; ++dx) {
+            const int qx = std::clamp(x + dx, 0, W - 1), qy = std::clamp(y + dy, 0, H - 1);
+            cv::Vec3f b;
+            if (!Sample(P.ref_t1, qx + m.x(), qy + m.y(), &b)) {
+              sum += trunc;
+              continue;
+            }
+            sum += ColourCost(P.ref_t.at<cv::Vec3f>(qy, qx), b);
+          }
+        cost += std::min(sum / patch_area, trunc);
+      }
+      if (P.use_cross) {  // as the volume: zero border, mean over defined pixels
+        float sum = 0, weight = 0;
+        for (int dy = -pr; dy <= pr; ++dy)
+          for (int dx = -pr; dx <= pr; ++dx) {
+            const int qx = x + dx, qy = y + dy;
+            if (qx < 0 || qy < 0 || qx >= W || qy >= H) continue;
+            const int q = qy * W + qx;
+            const float z = input.depth_t.at<float>(qy, qx);
+            if (!P.needed[q] || !(z > 0) || !std::isfinite(z)) continue;
+            const cv::Vec3f a = P.ref_t.at<cv::Vec3f>(qy, qx);
+            float s = 0;
+            int n = 0;
+            for (size_t g = 0; g < P.geometry.size(); ++g) {
+              Eigen::Vector2f qi;
+              if (!P.distorted) {
+                const Eigen::Vector3f h = P.geometry[g].h0[q] + P.geometry[g].a2 * m;
+                if (!(h.z() > 0)) continue;
+                qi = h.head<2>() / h.z();
+              } else {
+                const Eigen::Vector3d X =
+                    cam_t1.Unproject(Eigen::Vector2d(qx + m.x(), qy + m.y()), z);
+                const Camera& ci = input.cameras_t1[P.geometry[g].view];
+                if (!(ci.Depth(X) > 0)) continue;
+                qi = ci.Project(X).cast<float>();
+              }
+              cv::Vec3f b;
+              if (!Sample(P.other_t1[g], qi.x(), qi.y(), &b)) continue;
+              s += ColourCost(a, b);
+              ++n;
+            }
+            if (n > 0) {
+              sum += s / n;
+              weight += 1;
+            }
+          }
+        if (weight > 0.5f) cost += std::min(sum / weight, trunc);
+      }
+      row[x] = cost;
+    }
+  });
+  return out;
 }
 
 namespace {

@@ -94,6 +94,18 @@ MotionCostVolume ComputeFlowCostVolume(const FlowCostInput& input,
                                        const MotionLabelOptions& label_options,
                                        const FlowCostOptions& options = {});
 
+// E_f's photometric part e_F^T + e_F^V for a dense, sub-pixel flow field
+// (CV_32FC2 (dx, dy), the reference view's size): per roi pixel p the cost of
+// the motion flow(p), computed exactly as the cost volume computes the cost of
+// a label (patch of radius patch_radius sharing p's motion, bilinear samples,
+// same borders, truncation), so an integer motion costs what its label costs
+// in ComputeFlowCostVolume up to float rounding. e_F^S is not included (it
+// depends on the label set; the caller applies it). CV_32F, 0 outside roi.
+// Throws like ComputeFlowCostVolume (naming FlowFieldCosts), or on a flow of
+// the wrong type or size, or a non-finite flow in the roi.
+cv::Mat FlowFieldCosts(const FlowCostInput& input, const cv::Mat& flow,
+                       const FlowCostOptions& options = {});
+
 // Winner-take-all flow: per pixel the cheapest label, with parabolic sub-pixel
 // refinement per axis where the labels one pixel either side exist and are not
 // forbidden. CV_32FC2 (dx, dy), 0 outside roi (empty roi = all pixels).

@@ -246,6 +246,32 @@ TEST_F(FlowCostTest, DISABLED_WithTemporalTracks) {
   EXPECT_LT(e, 0.5 * zero);
 }
 
+// FlowFieldCosts is the cost volume's E_f photometric part for a dense field:
+// an integer motion field costs what its label costs in the volume (without
+// e_F^S, so the sparse constraint is off here), up to float rounding.
+TEST_F(FlowCostTest, FieldCostsMatchTheVolumeOnIntegerMotions) {
+  const std::vector<Eigen::Vector2f> labels = {{0, 0}, {2, -1}, {-3, 1}};
+  FlowCostOptions o;
+  o.sparse = false;
+  const MotionCostVolume v = ComputeFlowCostVolume(input_, labels, MotionLabelOptions{}, o);
+  const int n = input_.roi.cols * input_.roi.rows;
+  for (int l = 0; l < 3; ++l) {
+    const cv::Mat field(input_.roi.size(), CV_32FC2, cv::Scalar(labels[l].x(), labels[l].y()));
+    const cv::Mat c = FlowFieldCosts(input_, field, o);
+    double max_diff = 0;
+    for (int p = 0; p < n; ++p)
+      max_diff = std::max(max_diff, std::abs(double{c.ptr<float>()[p]} - v.At(p, l)));
+    EXPECT_LT(max_diff, 1e-5) << "label " << l;  // float rounding of sums of ~9 terms in [0, 1]
+  }
+  // The GT flow (sub-pixel) explains the images better than zero motion on the
+  // people: its mean E_f is lower (both terms are brightness constancy).
+  const cv::Mat gt = FlowFieldCosts(input_, gt_flow_, o);
+  const cv::Mat zero =
+      FlowFieldCosts(input_, cv::Mat(gt_flow_.size(), CV_32FC2, cv::Scalar(0, 0)), o);
+  EXPECT_LT(cv::mean(gt, eval_mask_)[0], cv::mean(zero, eval_mask_)[0]);
+  EXPECT_THROW(FlowFieldCosts(input_, cv::Mat(5, 5, CV_32FC2), o), Error);
+}
+
 TEST_F(FlowCostTest, BadInputsThrow) {
   const std::vector<Eigen::Vector2f> labels = {{0, 0}};
   const MotionLabelOptions lo;

@@ -6,6 +6,8 @@
 
 #include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/optflow.hpp>
+#include <opencv2/video/tracking.hpp>
 
 #include "u4d/mrf/expansion.h"
 #include "u4d/util/check.h"
@@ -37,6 +39,7 @@ struct Problem {
   std::vector<float> label_unary;              // [p * num_labels + l], weighted
   std::array<std::vector<float>, 4> contrast;  // λ_c E_c per forward direction
   std::vector<float> reg_weight;               // λ_r w_r(p)
+  std::array<std::vector<float>, 4> reg_edge;  // colour contrast weight per forward direction
   DepthCostVolume depth;                       // E_d
   int unknown = 0;                             // the label U (= number of depths)
   std::vector<int> previous_depth_label;       // temporal E_s; -1 = none
@@ -49,6 +52,19 @@ struct Problem {
   Eigen::Vector3d centre;
 
   std::vector<int> l, d, m;  // the labelling
+  // The motion as vectors (pixels) and its raw E_f (incl. e_F^S): equal to
+  // motions[m] and the volume's cost in the discrete blocks (SyncMotion),
+  // sub-pixel after the fusion stage.
+  std::vector<Eigen::Vector2f> mv;
+  std::vector<float> fcost;
+  void SyncMotion() {
+    mv.resize(n);
+    fcost.resize(n);
+    for (int p = 0; p < n; ++p) {
+      mv[p] = motion.motions[m[p]];
+      fcost[p] = motion.At(p, m[p]);
+    }
+  }
 
   const JointWeights& w() const { return o->weights; }
   const JointTerms& t() const { return o->terms; }
@@ -56,46 +72,71 @@ struct Problem {
   Eigen::Vector3d Point(int p, int depth_label) const {
     return centre + depth.depths[depth_label] * rays[p];
   }
-  Eigen::Vector2d Moved(int p, int motion_label) const {
-    const Eigen::Vector2f mv = motion.motions[motion_label];
-    return Eigen::Vector2d(p % width + mv.x(), p / width + mv.y());
+  Eigen::Vector2d Moved(int p, const Eigen::Vector2f& mp) const {
+    return Eigen::Vector2d(p % width + mp.x(), p / width + mp.y());
   }
   double DepthPair(int dp, int dq) const {
     if (dp == unknown || dq == unknown) return dp == dq ? 0.0 : 1.0;
     return std::min<double>(std::abs(dp - dq), o->depth_truncation) / o->depth_truncation;
   }
   // E_p's 3D part (couples d and m).
-  double Pose3d(int p, int dl, int ml) const {
+  double Pose3d(int p, int dl, const Eigen::Vector2f& mp) const {
     if (!use_pose || dl == unknown) return 0;
     return pose_3d_share *
-           u4d::Pose3dCost(pose, p, Point(p, dl), Moved(p, ml), *camera_t1, o->pose);
+           u4d::Pose3dCost(pose, p, Point(p, dl), Moved(p, mp), *camera_t1, o->pose);
   }
-  double DepthUnary(int p, int dl, int ml) const {
+  double DepthUnary(int p, int dl, const Eigen::Vector2f& mp) const {
     double e = 0;
     if (t().depth) e += w().depth * (dl == unknown ? depth.unknown_cost : depth.At(p, dl));
     if (t().smooth && !previous_depth_label.empty() && previous_depth_label[p] >= 0)
       e += w().smooth * w().smooth_temporal * DepthPair(dl, previous_depth_label[p]);
-    return e + Pose3d(p, dl, ml);
+    return e + Pose3d(p, dl, mp);
   }
-  double MotionUnary(int p, int ml, int dl) const {
+  // Motion mp with raw E_f cost f (volume or FlowFieldCosts, incl. e_F^S).
+  double MotionUnary(int p, const Eigen::Vector2f& mp, float f, int dl) const {
     double e = 0;
-    const float f = motion.At(p, ml);
     if (f >= kForbiddenMotion) return mrf::kInfiniteCost;
     if (t().flow) e += w().flow * f * flow_scale;
-    if (use_pose) e += pose_2d_share * PoseMotion2dCost(pose, p, motion.motions[ml], o->pose);
-    return e + Pose3d(p, dl, ml);
+    if (use_pose) e += pose_2d_share * PoseMotion2dCost(pose, p, mp, o->pose);
+    return e + Pose3d(p, dl, mp);
+  }
+  double MotionUnary(int p, int ml, int dl) const {
+    return MotionUnary(p, motion.motions[ml], motion.At(p, ml), dl);
   }
   double LabelUnary(int p, int ll) const {
     return label_unary[static_cast<size_t>(p) * num_labels + ll];
   }
   double Pair(int p, int q, int lp, int lq, int dp, int dq, int mp, int mq) const {
-    if (lp != lq) return t().contrast ? contrast[Direction(p, q, width)][p] : 0.0;
+    return PairV(p, q, lp, lq, dp, dq, motion.motions[mp], motion.motions[mq]);
+  }
+  // The pairwise terms with the motions given as vectors (pixels).
+  double PairV(int p, int q, int lp, int lq, int dp, int dq, const Eigen::Vector2f& mp,
+               const Eigen::Vector2f& mq) const {
     double e = 0;
-    if (t().smooth) e += w().smooth * w().smooth_spatial * DepthPair(dp, dq);
+    if (lp != lq) {
+      if (t().contrast) e += contrast[Direction(p, q, width)][p];
+    } else if (t().smooth) {
+      e += w().smooth * w().smooth_spatial * DepthPair(dp, dq);
+    }
     if (t().motion_reg) {
-      const double dm = (motion.motions[mp] - motion.motions[mq]).norm();
-      e += 0.5 * (reg_weight[p] + reg_weight[q]) * std::min(dm, o->motion_truncation_px) /
-           o->motion_truncation_px;
+      double wr = 0.5 * (reg_weight[p] + reg_weight[q]);
+      if (o->motion_reg_edge_aware) wr *= reg_edge[Direction(p, q, width)][p];
+      const auto rho = [&] {
+        const double tau = o->motion_truncation_px;
+        if (o->motion_reg_quadratic) return std::min((mp - mq).squaredNorm() / (tau * tau), 1.0);
+        return std::min(static_cast<double>((mp - mq).norm()), tau) / tau;
+      };
+      switch (o->motion_reg_boundary) {
+        case MotionRegBoundary::kFree:
+          if (lp == lq) e += wr * rho();
+          break;
+        case MotionRegBoundary::kDiscontinuity:
+          e += wr * (lp == lq ? rho() : 1.0);
+          break;
+        case MotionRegBoundary::kIgnoreLabels:
+          e += wr * rho();
+          break;
+      }
     }
     return e;
   }
@@ -106,10 +147,11 @@ double Problem::Energy() const {
   double e = 0;
   for (int p = 0; p < n; ++p) {
     if (!grid.IsActive(p)) continue;
-    e += LabelUnary(p, l[p]) + DepthUnary(p, d[p], m[p]) + MotionUnary(p, m[p], d[p]);
+    e += LabelUnary(p, l[p]) + DepthUnary(p, d[p], mv[p]) + MotionUnary(p, mv[p], fcost[p], d[p]);
   }
   for (const auto& [p, q] : pairs)
-    if (grid.IsActive(p) || grid.IsActive(q)) e += Pair(p, q, l[p], l[q], d[p], d[q], m[p], m[q]);
+    if (grid.IsActive(p) || grid.IsActive(q))
+      e += PairV(p, q, l[p], l[q], d[p], d[q], mv[p], mv[q]);
   return e;
 }
 
@@ -119,15 +161,15 @@ struct LabelBlock : mrf::GridEnergy {
   explicit LabelBlock(const Problem& p) : pr(p) {}
   double Unary(int p, int label) const override { return pr.LabelUnary(p, label); }
   double Pairwise(int p, int q, int lp, int lq) const override {
-    return pr.Pair(p, q, lp, lq, pr.d[p], pr.d[q], pr.m[p], pr.m[q]);
+    return pr.PairV(p, q, lp, lq, pr.d[p], pr.d[q], pr.mv[p], pr.mv[q]);
   }
 };
 struct DepthBlock : mrf::GridEnergy {
   const Problem& pr;
   explicit DepthBlock(const Problem& p) : pr(p) {}
-  double Unary(int p, int label) const override { return pr.DepthUnary(p, label, pr.m[p]); }
+  double Unary(int p, int label) const override { return pr.DepthUnary(p, label, pr.mv[p]); }
   double Pairwise(int p, int q, int dp, int dq) const override {
-    return pr.Pair(p, q, pr.l[p], pr.l[q], dp, dq, pr.m[p], pr.m[q]);
+    return pr.PairV(p, q, pr.l[p], pr.l[q], dp, dq, pr.mv[p], pr.mv[q]);
   }
 };
 struct MotionBlock : mrf::GridEnergy {
@@ -138,6 +180,62 @@ struct MotionBlock : mrf::GridEnergy {
     return pr.Pair(p, q, pr.l[p], pr.l[q], pr.d[p], pr.d[q], mp, mq);
   }
 };
+// Fusion of the current motion (binary label 0) with a proposal (label 1):
+// the full energy as a function of the per-pixel choice, l and d fixed.
+struct FusionBlock : mrf::GridEnergy {
+  const Problem& pr;
+  const std::vector<Eigen::Vector2f>& pm;  // proposal motion
+  const std::vector<float>& pf;            // its raw E_f cost
+  FusionBlock(const Problem& p, const std::vector<Eigen::Vector2f>& m, const std::vector<float>& f)
+      : pr(p), pm(m), pf(f) {}
+  const Eigen::Vector2f& M(int p, int k) const { return k == 0 ? pr.mv[p] : pm[p]; }
+  double Unary(int p, int k) const override {
+    return pr.MotionUnary(p, M(p, k), k == 0 ? pr.fcost[p] : pf[p], pr.d[p]);
+  }
+  double Pairwise(int p, int q, int kp, int kq) const override {
+    return pr.PairV(p, q, pr.l[p], pr.l[q], pr.d[p], pr.d[q], M(p, kp), M(q, kq));
+  }
+};
+
+// Integer motion (dx, dy) -> its label in M, or -1.
+struct MotionIndex {
+  int x0 = 0, y0 = 0, w = 0, h = 0;
+  std::vector<int> index;
+  explicit MotionIndex(const std::vector<Eigen::Vector2f>& motions) {
+    int x1 = 0, y1 = 0;
+    bool first = true;
+    for (const Eigen::Vector2f& mv : motions) {
+      if (mv.x() != std::round(mv.x()) || mv.y() != std::round(mv.y())) continue;
+      const int x = static_cast<int>(mv.x()), y = static_cast<int>(mv.y());
+      if (first) x0 = x1 = x, y0 = y1 = y, first = false;
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    }
+    if (first) return;
+    w = x1 - x0 + 1;
+    h = y1 - y0 + 1;
+    index.assign(static_cast<size_t>(w) * h, -1);
+    for (size_t i = 0; i < motions.size(); ++i) {
+      const Eigen::Vector2f& mv = motions[i];
+      if (mv.x() != std::round(mv.x()) || mv.y() != std::round(mv.y())) continue;
+      index[(static_cast<int>(mv.y()) - y0) * w + static_cast<int>(mv.x()) - x0] =
+          static_cast<int>(i);
+    }
+  }
+  // The label of the integer offset nearest to m, or -1.
+  int Nearest(const Eigen::Vector2f& mv) const {
+    if (!(std::abs(mv.x()) < 1e6f && std::abs(mv.y()) < 1e6f)) return -1;
+    const int x = static_cast<int>(std::lround(mv.x())) - x0,
+              y = static_cast<int>(std::lround(mv.y())) - y0;
+    if (x < 0 || y < 0 || x >= w || y >= h) return -1;
+    return index[y * w + x];
+  }
+};
+
+cv::Mat Grey(const cv::Mat& bgr) {
+  cv::Mat g;
+  cv::cvtColor(bgr, g, cv::COLOR_BGR2GRAY);
+  return g;
+}
 
 cv::Mat RegionOfInterest(const JointViewInput& in, int margin) {
   const cv::Size size = in.initial_labels.size();
@@ -219,6 +317,11 @@ void JointViewOptions::Check() const {
   U4D_CHECK(depth_truncation > 0, "JointViewOptions.depth_truncation must be > 0");
   U4D_CHECK(motion_truncation_px > 0, "JointViewOptions.motion_truncation_px must be > 0");
   U4D_CHECK(roi_margin_px >= 0, "JointViewOptions.roi_margin_px must be >= 0");
+  fusion.Check();
+}
+
+void FlowFusionOptions::Check() const {
+  U4D_CHECK(rounds >= 1, "FlowFusionOptions.rounds must be >= 1, got {}", rounds);
 }
 
 JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions& o) {
@@ -282,6 +385,8 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
       in.images_t[v].isContinuous() ? in.images_t[v] : in.images_t[v].clone(), pairs);
   const std::vector<float> sem_contrast = SemanticContrastWeights(semantic, pairs);
   for (auto& c : pr.contrast) c.assign(pr.n, 0.f);
+  if (o.motion_reg_edge_aware)
+    for (auto& c : pr.reg_edge) c.assign(pr.n, 0.f);
   const double cw = o.weights.contrast_colour + o.weights.contrast_label;
   for (size_t i = 0; i < pairs.size(); ++i) {
     const auto [p, q] = pairs[i];
@@ -291,6 +396,7 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
                   cw
             : 0.0;
     pr.contrast[Direction(p, q, pr.width)][p] = static_cast<float>(o.weights.contrast * e);
+    if (o.motion_reg_edge_aware) pr.reg_edge[Direction(p, q, pr.width)][p] = colour[i];
   }
   {
     const std::vector<float> spread_l = WindowSpread(semantic, in.initial_labels);
@@ -337,8 +443,8 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
     }
   }
   const cv::Mat wta_depth = WinnerTakeAllDepth(pr.depth, roi);
+  FlowCostInput flow_in;
   if (has_next) {
-    FlowCostInput flow_in;
     flow_in.ref_view = v;
     flow_in.cameras_t = in.cameras_t;
     flow_in.cameras_t1 = in.cameras_t1;
@@ -371,7 +477,7 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
     if (!pr.grid.IsActive(p)) return;
     double best = 1e300;
     for (int i = 0; i <= pr.unknown; ++i) {
-      const double e = pr.DepthUnary(p, i, zero_motion);
+      const double e = pr.DepthUnary(p, i, pr.motion.motions[zero_motion]);
       if (e < best) best = e, pr.d[p] = i;
     }
     best = 1e300;
@@ -380,6 +486,7 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
       if (e < best) best = e, pr.m[p] = i;
     }
   });
+  pr.SyncMotion();
 
   JointViewResult result;
   result.roi = roi;
@@ -406,8 +513,78 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
     if (has_next) {
       block_timer = Timer();
       mrf::AlphaExpansion(pr.grid, MotionBlock(pr), motion_candidates, &pr.m, eo);
+      pr.SyncMotion();
       result.energy_trace.push_back({"motion", pr.Energy(), block_timer.Seconds()});
     }
+  }
+
+  // ---- Flow fusion: continuous proposals fused under the full energy (l, d fixed).
+  if (has_next && o.fusion.enabled && o.terms.flow) {
+    Timer block_timer;
+    const MotionIndex index(pr.motion.motions);
+    std::vector<cv::Mat> external;  // proposals that do not depend on the state
+    {
+      const cv::Mat a = Grey(in.images_t[v]), b = Grey(in.images_t1[v]);
+      if (o.fusion.deepflow) {
+        cv::Mat f;
+        cv::optflow::createOptFlow_DeepFlow()->calc(a, b, f);
+        external.push_back(f);
+      }
+      if (o.fusion.dis) {
+        cv::Mat f;
+        cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM)->calc(a, b, f);
+        external.push_back(f);
+      }
+      if (external.size() == 2) external.push_back(0.5 * (external[0] + external[1]));
+    }
+    auto current_field = [&] {
+      cv::Mat f(pr.height, pr.width, CV_32FC2);
+      for (int p = 0; p < pr.n; ++p) f.ptr<cv::Vec2f>()[p] = cv::Vec2f(pr.mv[p].x(), pr.mv[p].y());
+      return f;
+    };
+    auto fuse = [&](const cv::Mat& proposal_field) {
+      std::vector<Eigen::Vector2f> pm(pr.n);
+      std::vector<float> pf(pr.n);
+      cv::Mat field = proposal_field.clone();  // a non-finite proposal keeps the current motion
+      for (int p = 0; p < pr.n; ++p) {
+        cv::Vec2f& f = field.ptr<cv::Vec2f>()[p];
+        if (!std::isfinite(f[0]) || !std::isfinite(f[1])) f = cv::Vec2f(pr.mv[p].x(), pr.mv[p].y());
+      }
+      const cv::Mat costs = FlowFieldCosts(flow_in, field, o.flow);
+      for (int p = 0; p < pr.n; ++p) {
+        const cv::Vec2f f = field.ptr<cv::Vec2f>()[p];
+        pm[p] = Eigen::Vector2f(f[0], f[1]);
+        if (!pr.grid.IsActive(p) || !pm[p].allFinite()) {
+          pm[p] = pr.mv[p];
+          pf[p] = pr.fcost[p];
+          continue;
+        }
+        // e_F^S of a sub-pixel motion: that of its nearest integer offset in M.
+        const int k = index.Nearest(pm[p]);
+        pf[p] = costs.ptr<float>()[p] +
+                ((k < 0 || pr.motion.At(p, k) >= kForbiddenMotion) ? kForbiddenMotion : 0.f);
+      }
+      std::vector<int> choice(pr.n, 0);
+      const std::vector<int> proposal(pr.n, 1);
+      mrf::FusionMove(pr.grid, FusionBlock(pr, pm, pf), proposal, &choice, o.algorithm);
+      for (int p = 0; p < pr.n; ++p)
+        if (choice[p] == 1) pr.mv[p] = pm[p], pr.fcost[p] = pf[p];
+    };
+    for (int round = 0; round < o.fusion.rounds; ++round) {
+      if (round == 0 && o.fusion.refined) {
+        std::vector<int> labels(pr.m);
+        for (int p = 0; p < pr.n; ++p)
+          if (!pr.grid.IsActive(p)) labels[p] = -1;
+        fuse(RefineFlowLabels(pr.motion, labels));
+      }
+      for (const cv::Mat& f : external) fuse(f);
+      if (o.fusion.smoothed) {
+        cv::Mat smooth;
+        cv::GaussianBlur(current_field(), smooth, cv::Size(5, 5), 1.0);
+        fuse(smooth);
+      }
+    }
+    result.energy_trace.push_back({"fusion", pr.Energy(), block_timer.Seconds()});
   }
 
   // ---- Outputs: labels, sub-sample depth on object pixels, sub-pixel flow.
@@ -419,10 +596,10 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
   }
   result.depth = RefineDepthLabels(pr.depth, depth_labels);
   if (has_next) {
-    std::vector<int> motion_labels(pr.m);
+    result.flow = cv::Mat::zeros(pr.height, pr.width, CV_32FC2);
     for (int p = 0; p < pr.n; ++p)
-      if (!pr.grid.IsActive(p)) motion_labels[p] = -1;
-    result.flow = RefineFlowLabels(pr.motion, motion_labels);
+      if (pr.grid.IsActive(p))
+        result.flow.ptr<cv::Vec2f>()[p] = cv::Vec2f(pr.mv[p].x(), pr.mv[p].y());
   } else {
     result.flow = cv::Mat::zeros(pr.height, pr.width, CV_32FC2);
   }
