@@ -1,8 +1,11 @@
 #include "u4d/pipeline/initial_objects.h"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 #include <tuple>
+
+#include <opencv2/imgproc.hpp>
 
 #include "u4d/io/image_io.h"
 #include "u4d/io/layout.h"
@@ -42,7 +45,105 @@ std::map<int, int> LinkObjects(const std::map<int, Eigen::Vector3d>& centroids,
   return link;
 }
 
+// Instances of a view not associated with an object join the object most
+// of their silhouette points are associated with in the other views.
+void AttachFragments(const std::vector<cv::Mat>& masks, const std::vector<SparsePoint>& points,
+                     InstanceAssociation* association) {
+  std::map<std::pair<int, int>, std::map<int, int>> votes;  // (view, id) -> object -> count
+  for (const SparsePoint& p : points) {
+    std::vector<std::pair<int, int>> labels;
+    std::set<int> objects;
+    for (size_t i = 0; i < p.observations.size(); ++i) {
+      const int v = p.observations[i].first;
+      const int id = MaskIdAt(masks[v], p.pixels[i]);
+      if (id == 0) continue;
+      if (const int o = association->ObjectOf(v, id))
+        objects.insert(o);
+      else
+        labels.emplace_back(v, id);
+    }
+    for (const auto& label : labels)
+      for (int o : objects) ++votes[label][o];
+  }
+  for (const auto& [label, by_object] : votes) {
+    const auto best =
+        std::max_element(by_object.begin(), by_object.end(),
+                         [](const auto& a, const auto& b) { return a.second < b.second; });
+    association->object_of[label.first][label.second] = best->first;
+  }
+}
+
 }  // namespace
+
+void SilhouettePointOptions::Check() const {
+  U4D_CHECK(max_side >= 16, "SilhouettePointOptions.max_side must be >= 16, got {}", max_side);
+  U4D_CHECK(pixels_per_view >= 1, "SilhouettePointOptions.pixels_per_view must be >= 1");
+  U4D_CHECK(depth_samples >= 2, "SilhouettePointOptions.depth_samples must be >= 2");
+  U4D_CHECK(min_depth_m > 0, "SilhouettePointOptions.min_depth_m must be > 0");
+  U4D_CHECK(min_views_seeing >= 1, "SilhouettePointOptions.min_views_seeing must be >= 1");
+}
+
+std::vector<SparsePoint> SilhouettePoints(const std::vector<Camera>& cameras,
+                                          const std::vector<cv::Mat>& masks,
+                                          const SilhouettePointOptions& options) {
+  options.Check();
+  const int nv = static_cast<int>(cameras.size());
+  U4D_CHECK(static_cast<int>(masks.size()) == nv, "SilhouettePoints: {} cameras but {} masks", nv,
+            masks.size());
+  // Reduced, slightly dilated foreground per view (absent mask: no view).
+  std::vector<Camera> small(nv);
+  std::vector<cv::Mat> fg(nv);
+  double baseline = 0;
+  for (int v = 0; v < nv; ++v) {
+    for (int w = 0; w < nv; ++w)
+      baseline = std::max(baseline, (cameras[v].Center() - cameras[w].Center()).norm());
+    if (masks[v].empty()) continue;
+    const double s =
+        std::min(1.0, double(options.max_side) / std::max(cameras[v].width, cameras[v].height));
+    small[v] = ScaledCamera(cameras[v], s);
+    cv::Mat m = masks[v] > 0, r;
+    cv::resize(m, r, {small[v].width, small[v].height}, 0, 0, cv::INTER_AREA);
+    cv::dilate(r > 0, fg[v], cv::Mat::ones(3, 3, CV_8U));
+  }
+  const double far = std::max(5.0, 1.5 * baseline);
+  const double inv_near = 1 / options.min_depth_m, inv_far = 1 / far;
+  std::vector<SparsePoint> points;
+  for (int v = 0; v < nv; ++v) {
+    if (fg[v].empty()) continue;
+    std::vector<cv::Point> pixels;
+    cv::findNonZero(fg[v], pixels);
+    const size_t step = std::max<size_t>(1, pixels.size() / options.pixels_per_view);
+    for (size_t k = 0; k < pixels.size(); k += step) {
+      const Eigen::Vector2d px(pixels[k].x, pixels[k].y);
+      for (int d = 0; d < options.depth_samples; ++d) {
+        const double inv = inv_near + (inv_far - inv_near) * d / (options.depth_samples - 1);
+        const Eigen::Vector3d X = small[v].Unproject(px, 1 / inv);
+        int seeing = 0;
+        bool consistent = true;
+        for (int w = 0; w < nv && consistent; ++w) {
+          if (w == v || fg[w].empty() || small[w].Depth(X) <= 0) continue;
+          const Eigen::Vector2d q = small[w].Project(X);
+          if (!q.allFinite() || !small[w].InImage(q)) continue;
+          ++seeing;
+          consistent = fg[w].at<uint8_t>(int(std::lround(q.y())), int(std::lround(q.x()))) > 0;
+        }
+        if (!consistent || seeing < options.min_views_seeing) continue;
+        SparsePoint p;
+        p.position = X;
+        for (int w = 0; w < nv; ++w) {
+          if (masks[w].empty() || cameras[w].Depth(X) <= 0) continue;
+          const Eigen::Vector2d q = cameras[w].Project(X);
+          if (!q.allFinite() || !cameras[w].InImage(q)) continue;
+          p.observations.emplace_back(w, -1);
+          p.pixels.push_back(q);
+        }
+        points.push_back(std::move(p));
+        break;  // the first consistent depth: the hull's surface along this ray
+      }
+    }
+  }
+  return points;
+}
 
 FrameObjects ObjectsFromPoses(const std::vector<Camera>& cameras, const std::vector<cv::Mat>& masks,
                               const std::vector<Pose3d>& poses, const FrameSetupOptions& options) {
@@ -66,15 +167,23 @@ FrameObjects ObjectsFromSparse(const std::vector<Camera>& cameras,
   U4D_CHECK(cameras.size() == masks.size() && cameras.size() == images.size(),
             "ObjectsFromSparse: {} cameras, {} images and {} masks", cameras.size(), images.size(),
             masks.size());
-  const SparseFrame sparse = ReconstructSparseFrame(cameras, images, masks, sparse_options);
+  SparseFrame sparse = ReconstructSparseFrame(cameras, images, masks, sparse_options);
+  std::vector<SparsePoint> evidence = sparse.points;
+  for (SparsePoint& p : SilhouettePoints(cameras, masks)) evidence.push_back(std::move(p));
+  sparse.association = AssociateInstances(cameras, masks, evidence, sparse_options.sparse);
+  AttachFragments(masks, evidence, &sparse.association);
+  AssignInstances(masks, sparse.association, sparse.points);
+  AssignInstances(masks, sparse.association, evidence);
+  // Depth ranges from the feature points (accurate) where a view has enough
+  // of them, else from the visual hull.
   const auto regions =
       InitialObjectRegions(cameras, masks, sparse.association, sparse.points, {}, region_options);
-  // Centroid of each object's points (the per-coordinate median: robust to a
-  // few wrongly assigned points).
+  // Centroid of each object's feature and silhouette points (the
+  // per-coordinate median: robust to a few wrongly assigned points).
   std::map<int, Eigen::Vector3d> centroids;
   for (int k = 1; k <= sparse.association.num_objects; ++k) {
     std::vector<double> xs[3];
-    for (const SparsePoint& p : sparse.points)
+    for (const SparsePoint& p : evidence)
       if (p.instance == k)
         for (int c = 0; c < 3; ++c) xs[c].push_back(p.position[c]);
     if (xs[0].empty()) continue;
@@ -103,9 +212,35 @@ FrameObjects ObjectsFromSparse(const std::vector<Camera>& cameras,
     out.ids[v] = Relabel(ids16, new_id);
     for (const auto& object_regions : regions) {
       const ObjectRegion& r = object_regions[v];
-      if (!link.count(r.instance) || !r.detected || r.depth_far <= r.depth_near) continue;
-      out.depth_ranges[v][link.at(r.instance)] = {r.depth_near, r.depth_far};
+      if (!link.count(r.instance) || !r.detected) continue;
+      double near = r.depth_near, far = r.depth_far;
+      bool usable = r.depth_source == DepthSource::kSparsePoints;
+      if (!usable) {
+        // The silhouette points bound the object far better than rays that
+        // leave the other views' images (object_regions.h's visual hull).
+        std::vector<double> z;
+        for (const SparsePoint& p : evidence)
+          if (p.instance == r.instance)
+            for (const auto& o : p.observations)
+              if (o.first == v) z.push_back(cameras[v].Depth(p.position));
+        if (static_cast<int>(z.size()) >= region_options.min_points) {
+          std::sort(z.begin(), z.end());
+          const auto at = [&](double q) { return z[static_cast<size_t>(q * (z.size() - 1))]; };
+          near = std::max(0.05, at(region_options.percentile_near) - region_options.depth_margin_m);
+          far = at(region_options.percentile_far) + region_options.depth_margin_m;
+          usable = true;
+        }
+      }
+      if (usable && far > near) out.depth_ranges[v][link.at(r.instance)] = {near, far};
     }
+    // An object seen in this view without a usable depth range (no point
+    // of it projects here) is not reconstructed in this view: its pixels
+    // go back to the background of the initial labels.
+    for (int y = 0; y < out.ids[v].rows; ++y)
+      for (int x = 0; x < out.ids[v].cols; ++x) {
+        uint16_t& id = out.ids[v].at<uint16_t>(y, x);
+        if (id && !out.depth_ranges[v].count(id)) id = 0;
+      }
   }
   return out;
 }
@@ -153,10 +288,12 @@ FrameObjects ReadFrameObjects(const fs::path& out, const std::vector<std::string
     const fs::path png = out / layout::SceneInitialMask(name, frame);
     objects.ids.push_back(fs::exists(png) ? ReadLabelImage(png) : cv::Mat());
     std::map<int, std::pair<double, double>> view;
-    for (const auto& [id, r] : JsonGet<nlohmann::json>(ranges, name, ctx).items()) {
+    const nlohmann::json view_ranges = JsonGet<nlohmann::json>(ranges, name, ctx);
+    for (auto it = view_ranges.begin(); it != view_ranges.end(); ++it) {
+      const nlohmann::json& r = it.value();
       U4D_CHECK(r.is_array() && r.size() == 2,
-                "{}: depth range of object {} in {} must be [near, far]", ctx, id, name);
-      view[std::stoi(id)] = {JsonNumber(r[0], ctx, "near"), JsonNumber(r[1], ctx, "far")};
+                "{}: depth range of object {} in {} must be [near, far]", ctx, it.key(), name);
+      view[std::stoi(it.key())] = {JsonNumber(r[0], ctx, "near"), JsonNumber(r[1], ctx, "far")};
     }
     objects.depth_ranges.push_back(view);
   }

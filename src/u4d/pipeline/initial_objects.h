@@ -12,6 +12,14 @@
 // (features/sparse_points.h ReconstructSparseFrame) associates the per-view
 // instances across views into objects, and features/object_regions.h gives
 // each object's depth range per view (sparse points, else the visual hull).
+// Wide-baseline rigs give few feature matches, so silhouette points join the
+// feature points: surface points of the masks' visual hull (SilhouettePoints),
+// each observed in every view it projects into. An instance left out of the
+// association (a fragment of a person split in one view) joins the object
+// that most of its silhouette points' other observations belong to. A view
+// where an object has neither enough feature points nor enough silhouette
+// points (RegionOptions::min_points) gets no depth range for it, and the
+// object's pixels there go back to background.
 // Identities through time: an object takes the id of the previous frame's
 // object whose sparse-point centroid is nearest, when within
 // `max_centroid_jump_m` (greedy, nearest pairs first); otherwise a new id.
@@ -52,6 +60,25 @@ struct ObjectLinker {
   std::map<int, Eigen::Vector3d> previous;
   int next_id = 1;
 };
+
+struct SilhouettePointOptions {
+  int max_side = 160;         // masks are tested at this longest side (pixels)
+  int pixels_per_view = 400;  // rays cast per view (a regular sample of its foreground)
+  int depth_samples = 192;    // depths per ray, even in inverse depth
+  double min_depth_m = 0.3;   // nearest depth tested
+  int min_views_seeing = 2;   // other views that must see a point (inside their image)
+  void Check() const;
+};
+
+// Points on the visual hull of the union of the masks: for sampled
+// foreground pixels of every view, the first depth along the ray whose point
+// projects into the foreground of every other view that sees it (at least
+// min_views_seeing); observations are the views it projects into the
+// foreground of, with their pixels (full resolution). The farthest depth is
+// 1.5 x the largest distance between two cameras (at least 5 m).
+std::vector<SparsePoint> SilhouettePoints(const std::vector<Camera>& cameras,
+                                          const std::vector<cv::Mat>& masks,
+                                          const SilhouettePointOptions& options = {});
 
 // With poses: `masks[v]` detector ids (empty = none) -> object ids.
 FrameObjects ObjectsFromPoses(const std::vector<Camera>& cameras, const std::vector<cv::Mat>& masks,

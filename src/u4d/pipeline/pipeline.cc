@@ -151,6 +151,7 @@ int ComputeInitialObjects(Context& c, const std::vector<std::vector<Pose3d>>& po
     }
   }
   ObjectLinker linker;
+  std::vector<int> empty_frames;
   Progress progress("initial", c.NumFrames(), c.o.progress);
   for (int k = 0; k < c.NumFrames(); ++k) {
     const int f = c.f0 + k;
@@ -166,8 +167,16 @@ int ComputeInitialObjects(Context& c, const std::vector<std::vector<Pose3d>>& po
             ? ObjectsFromPoses(cams, masks, poses[k], c.o.frame_setup)
             : ObjectsFromSparse(cams, images, masks, c.o.sparse, c.o.regions, &linker);
     WriteFrameObjects(c.out, c.names, f, objects);
+    bool any = false;
+    for (const cv::Mat& ids : objects.ids) any = any || (!ids.empty() && cv::countNonZero(ids) > 0);
+    if (!any) empty_frames.push_back(f);
     progress.Tick();
   }
+  if (!empty_frames.empty())
+    fmt::print(
+        "[initial] warning: no object found in any view at {} of {} frames (first: {}); "
+        "those frames stay empty\n",
+        empty_frames.size(), c.NumFrames(), empty_frames.front());
   return c.NumFrames();
 }
 
