@@ -436,38 +436,6 @@ cv::Mat FlowFieldCosts(const FlowCostInput& input, const cv::Mat& flow,
 
 namespace {
 
-// Integer (dx, dy) -> label over the bounding box of the integer labels.
-struct LabelGrid {
-  int x0 = 0, y0 = 0, w = 0, h = 0;
-  std::vector<int> index;
-  explicit LabelGrid(const std::vector<Eigen::Vector2f>& motions) {
-    int x1 = 0, y1 = 0;
-    bool first = true;
-    for (const Eigen::Vector2f& m : motions) {
-      if (!IsInteger(m.x()) || !IsInteger(m.y())) continue;
-      const int x = static_cast<int>(m.x()), y = static_cast<int>(m.y());
-      if (first) x0 = x1 = x, y0 = y1 = y, first = false;
-      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
-    }
-    if (first) return;
-    w = x1 - x0 + 1;
-    h = y1 - y0 + 1;
-    index.assign(static_cast<size_t>(w) * h, -1);
-    for (size_t l = 0; l < motions.size(); ++l) {
-      const Eigen::Vector2f& m = motions[l];
-      if (!IsInteger(m.x()) || !IsInteger(m.y())) continue;
-      index[(static_cast<int>(m.y()) - y0) * w + static_cast<int>(m.x()) - x0] =
-          static_cast<int>(l);
-    }
-  }
-  int Find(float fx, float fy) const {
-    if (!IsInteger(fx) || !IsInteger(fy)) return -1;
-    const int x = static_cast<int>(fx) - x0, y = static_cast<int>(fy) - y0;
-    if (x < 0 || y < 0 || x >= w || y >= h) return -1;
-    return index[y * w + x];
-  }
-};
-
 // Sub-pixel offset in [-0.5, 0.5] of the parabola through (-1, cm), (0, c0), (1, cp).
 float Parabola(float cm, float c0, float cp) {
   const float limit = 0.5f * kForbiddenMotion;
@@ -478,7 +446,7 @@ float Parabola(float cm, float c0, float cp) {
 }
 
 cv::Mat Refine(const MotionCostVolume& v, const std::vector<int>& labels) {
-  const LabelGrid grid(v.motions);
+  const MotionLabelGrid grid(v.motions);
   cv::Mat flow(v.height, v.width, CV_32FC2, cv::Scalar(0, 0));
   const int N = v.width * v.height;
   tbb::parallel_for(0, v.height, [&](int y) {

@@ -197,40 +197,6 @@ struct FusionBlock : mrf::GridEnergy {
   }
 };
 
-// Integer motion (dx, dy) -> its label in M, or -1.
-struct MotionIndex {
-  int x0 = 0, y0 = 0, w = 0, h = 0;
-  std::vector<int> index;
-  explicit MotionIndex(const std::vector<Eigen::Vector2f>& motions) {
-    int x1 = 0, y1 = 0;
-    bool first = true;
-    for (const Eigen::Vector2f& mv : motions) {
-      if (mv.x() != std::round(mv.x()) || mv.y() != std::round(mv.y())) continue;
-      const int x = static_cast<int>(mv.x()), y = static_cast<int>(mv.y());
-      if (first) x0 = x1 = x, y0 = y1 = y, first = false;
-      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
-    }
-    if (first) return;
-    w = x1 - x0 + 1;
-    h = y1 - y0 + 1;
-    index.assign(static_cast<size_t>(w) * h, -1);
-    for (size_t i = 0; i < motions.size(); ++i) {
-      const Eigen::Vector2f& mv = motions[i];
-      if (mv.x() != std::round(mv.x()) || mv.y() != std::round(mv.y())) continue;
-      index[(static_cast<int>(mv.y()) - y0) * w + static_cast<int>(mv.x()) - x0] =
-          static_cast<int>(i);
-    }
-  }
-  // The label of the integer offset nearest to m, or -1.
-  int Nearest(const Eigen::Vector2f& mv) const {
-    if (!(std::abs(mv.x()) < 1e6f && std::abs(mv.y()) < 1e6f)) return -1;
-    const int x = static_cast<int>(std::lround(mv.x())) - x0,
-              y = static_cast<int>(std::lround(mv.y())) - y0;
-    if (x < 0 || y < 0 || x >= w || y >= h) return -1;
-    return index[y * w + x];
-  }
-};
-
 cv::Mat Grey(const cv::Mat& bgr) {
   cv::Mat g;
   cv::cvtColor(bgr, g, cv::COLOR_BGR2GRAY);
@@ -521,7 +487,7 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
   // ---- Flow fusion: continuous proposals fused under the full energy (l, d fixed).
   if (has_next && o.fusion.enabled && o.terms.flow) {
     Timer block_timer;
-    const MotionIndex index(pr.motion.motions);
+    const MotionLabelGrid index(pr.motion.motions);
     std::vector<cv::Mat> external;  // proposals that do not depend on the state
     {
       const cv::Mat a = Grey(in.images_t[v]), b = Grey(in.images_t1[v]);

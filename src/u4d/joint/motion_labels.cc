@@ -87,4 +87,40 @@ std::vector<SparseMotion> SparseMotionsFromTracks(const std::vector<TemporalTrac
   return out;
 }
 
+MotionLabelGrid::MotionLabelGrid(const std::vector<Eigen::Vector2f>& motions) {
+  const auto integer = [](const Eigen::Vector2f& m) {
+    return m.x() == std::round(m.x()) && m.y() == std::round(m.y());
+  };
+  int x1 = 0, y1 = 0;
+  bool first = true;
+  for (const Eigen::Vector2f& m : motions) {
+    if (!integer(m)) continue;
+    const int x = static_cast<int>(m.x()), y = static_cast<int>(m.y());
+    if (first) x0 = x1 = x, y0 = y1 = y, first = false;
+    x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+  }
+  if (first) return;
+  w = x1 - x0 + 1;
+  h = y1 - y0 + 1;
+  index.assign(static_cast<size_t>(w) * h, -1);
+  for (size_t l = 0; l < motions.size(); ++l) {
+    const Eigen::Vector2f& m = motions[l];
+    if (integer(m))
+      index[(static_cast<int>(m.y()) - y0) * w + static_cast<int>(m.x()) - x0] =
+          static_cast<int>(l);
+  }
+}
+
+int MotionLabelGrid::Find(float fx, float fy) const {
+  if (fx != std::round(fx) || fy != std::round(fy)) return -1;
+  const int x = static_cast<int>(fx) - x0, y = static_cast<int>(fy) - y0;
+  if (x < 0 || y < 0 || x >= w || y >= h) return -1;
+  return index[y * w + x];
+}
+
+int MotionLabelGrid::Nearest(const Eigen::Vector2f& m) const {
+  if (!(std::abs(m.x()) < 1e6f && std::abs(m.y()) < 1e6f)) return -1;
+  return Find(static_cast<float>(std::lround(m.x())), static_cast<float>(std::lround(m.y())));
+}
+
 }  // namespace u4d

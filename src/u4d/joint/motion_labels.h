@@ -57,4 +57,16 @@ std::vector<Eigen::Vector2f> BuildMotionLabels(const std::vector<SparseMotion>& 
 std::vector<SparseMotion> SparseMotionsFromTracks(const std::vector<TemporalTrack>& tracks,
                                                   int view, int frame_t, double scale = 1.0);
 
+// Integer motion (dx, dy) -> its index in a label set M, over the bounding
+// box of M's integer motions (non-integer motions are not indexed).
+struct MotionLabelGrid {
+  int x0 = 0, y0 = 0, w = 0, h = 0;
+  std::vector<int> index;  // w * h, -1 = no label
+  explicit MotionLabelGrid(const std::vector<Eigen::Vector2f>& motions);
+  // The label of the integer motion (fx, fy), or -1 (also for non-integers).
+  int Find(float fx, float fy) const;
+  // The label of the integer motion nearest to m, or -1.
+  int Nearest(const Eigen::Vector2f& m) const;
+};
+
 }  // namespace u4d
