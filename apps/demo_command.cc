@@ -24,7 +24,7 @@ namespace {
 struct DemoArgs {
   std::string out = "out/demo";
   std::string preset = "handshake";
-  int frames = 8;
+  int frames = 5;  // a few minutes on 2 cores (docs/pipeline.md)
   int views = 6;
   int width = 480;
   int height = 270;

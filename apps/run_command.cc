@@ -72,6 +72,8 @@ Command MakeRunCommand() {
                 ->capture_default_str();
             app.add_option("--config", a->config,
                            "JSON file with \"weights\" overriding the paper's");
+            app.add_flag("!--no-joint-tracks", o.tracks.add_joint_tracks,
+                         "do not add the projected 3D joints to the sparse tracks");
             app.add_flag("!--no-resume", o.resume, "recompute everything in the output directory");
             app.add_flag("!--no-eval", o.evaluate, "skip eval.json even with ground truth");
             app.add_flag("!--no-progress", o.progress, "no progress bars");
