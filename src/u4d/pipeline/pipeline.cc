@@ -313,12 +313,9 @@ SolvedFrame SolveFrame(Context& c, int f, const std::vector<std::vector<Pose3d>>
 
   SolvedFrame solved;
   solved.frame = f;
-  if (c.poses != PoseSource::kNone && data.poses_t.empty()) {
-    // Nobody tracked in this frame: nothing to reconstruct.
-    data.poses_t.clear();
-  }
   double scale = 1;
   std::vector<JointViewInput> inputs;
+  // With poses, a frame where nobody was tracked has nothing to reconstruct.
   const bool has_objects = c.poses == PoseSource::kNone || !data.poses_t.empty();
   if (has_objects) {
     inputs = MakeJointViewInputs(data, c.o.frame_setup, &scale);
