@@ -12,34 +12,20 @@
 
 #include "u4d/eval/mesh_metrics.h"
 #include "u4d/fusion/depth_fusion.h"
+#include "u4d/fusion/fusion_test_util.h"
 #include "u4d/fusion/scene_flow.h"
 #include "u4d/io/capture.h"
 #include "u4d/io/image_io.h"
 #include "u4d/io/layout.h"
 #include "u4d/synth/generate.h"
+#include "u4d/util/stats.h"
 #include "u4d/util/timer.h"
 
 using namespace u4d;
 
 namespace {
 
-struct Maps {
-  std::vector<Camera> cameras;
-  std::vector<cv::Mat> depths, ids, images, flows;
-};
-
-Maps Read(const Capture& c, int f) {
-  Maps m;
-  for (int v = 0; v < c.NumViews(); ++v) {
-    const std::string& n = c.views[v].name;
-    m.cameras.push_back(c.views[v].CameraAt(f));
-    m.depths.push_back(ReadPfm(c.root / layout::GtDepth(n, f)));
-    m.ids.push_back(ReadLabelImage(c.root / layout::GtInstances(n, f)));
-    m.images.push_back(ReadColorImage(c.ImagePath(v, f)));
-    if (f + 1 < c.num_frames) m.flows.push_back(ReadFlo(c.root / layout::GtFlow(n, f)));
-  }
-  return m;
-}
+using Maps = fusion_test::FrameMaps;
 
 std::vector<SceneFlowView> Step(const Maps& a, const Maps& b) {
   std::vector<SceneFlowView> out;
@@ -47,11 +33,6 @@ std::vector<SceneFlowView> Step(const Maps& a, const Maps& b) {
     out.push_back(
         {a.cameras[v], b.cameras[v], a.depths[v], b.depths[v], a.flows[v], a.ids[v], b.ids[v]});
   return out;
-}
-
-double Median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
 }
 
 }  // namespace
@@ -64,7 +45,7 @@ int main() {
     const fs::path dir = synth::WriteCaptureToTempDir("fusion_bench", o);
     const Capture c = ReadCapture(dir);
     std::vector<Maps> maps;
-    for (int f = 0; f < frames; ++f) maps.push_back(Read(c, f));
+    for (int f = 0; f < frames; ++f) maps.push_back(fusion_test::ReadGtFrame(c, f));
     for (int id = 1; id <= 2; ++id) {
       Timer t;
       const FusedMesh fm = FuseObject(maps[0].cameras, maps[0].depths, maps[0].ids, maps[0].images,

@@ -1,6 +1,7 @@
 // The synthetic handshake shared by the fusion tests: 8 views at 320x180,
 // 3 frames from script frame 10 (0.4 s: the people are walking towards each
-// other, so consecutive frames differ by centimetres), with GT meshes. Include from *_test.cc only.
+// other, so consecutive frames differ by centimetres), with GT meshes, and reading a frame's GT
+// maps. Include from *_test.cc and bench/ only.
 #pragma once
 
 #include <vector>

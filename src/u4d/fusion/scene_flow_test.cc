@@ -14,15 +14,11 @@
 #include "u4d/eval/mesh_metrics.h"
 #include "u4d/fusion/depth_fusion.h"
 #include "u4d/fusion/fusion_test_util.h"
+#include "u4d/util/stats.h"
 #include "u4d/util/testing.h"
 
 namespace u4d {
 namespace {
-
-double Median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
 
 std::vector<SceneFlowView> GtStep(const fusion_test::FrameMaps& a, const fusion_test::FrameMaps& b,
                                   bool zero_flow) {

@@ -5,15 +5,10 @@
 #include <limits>
 
 #include "u4d/util/check.h"
+#include "u4d/util/stats.h"
 
 namespace u4d {
 namespace {
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
 
 double Mean(const std::vector<double>& v) {
   double s = 0;

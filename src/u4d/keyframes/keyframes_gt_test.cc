@@ -15,15 +15,10 @@
 #include "u4d/keyframes/keyframe_eval.h"
 #include "u4d/keyframes/keyframe_similarity.h"
 #include "u4d/synth/generate.h"
+#include "u4d/util/stats.h"
 
 namespace u4d {
 namespace {
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
 
 class KeyframeGtTest : public ::testing::Test {
  protected:
