@@ -2,6 +2,7 @@
 
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <limits>
 
 #include <open3d/geometry/TriangleMesh.h>
@@ -174,6 +175,122 @@ void WriteSegmentGlb(const fs::path& path, const AnimatedMesh& segment,
     f.write(glb.data(), static_cast<std::streamsize>(glb.size()));
     U4D_CHECK(f.good(), "{}: cannot write {}", ctx, tmp.string());
   });
+}
+
+namespace {
+
+// The accessors of a parsed .glb, bounds-checked against its binary chunk.
+class GlbReader {
+ public:
+  GlbReader(const nlohmann::json& gltf, const std::string& bin, const std::string& ctx)
+      : gltf_(gltf), bin_(bin), ctx_(ctx) {}
+
+  // Accessor `index` as `components` floats (or uint32) per element.
+  template <typename T>
+  std::vector<T> Read(int index, int component_type, const std::string& type) const {
+    U4D_CHECK(gltf_.contains("accessors") && index >= 0 &&
+                  index < static_cast<int>(gltf_["accessors"].size()),
+              "{}: accessor {} does not exist", ctx_, index);
+    const nlohmann::json& a = gltf_["accessors"][index];
+    U4D_CHECK(a.value("componentType", 0) == component_type && a.value("type", "") == type,
+              "{}: accessor {} is not of the expected layout ({} {})", ctx_, index, component_type,
+              type);
+    const size_t comps = type == "VEC3" ? 3 : 1;
+    const size_t count = a.value("count", size_t{0});
+    const int view_index = a.value("bufferView", -1);
+    U4D_CHECK(view_index >= 0 && view_index < static_cast<int>(gltf_["bufferViews"].size()),
+              "{}: accessor {} has no valid bufferView", ctx_, index);
+    const nlohmann::json& v = gltf_["bufferViews"][view_index];
+    const size_t offset = v.value("byteOffset", size_t{0}) + a.value("byteOffset", size_t{0});
+    const size_t bytes = count * comps * sizeof(T);
+    U4D_CHECK(bytes <= v.value("byteLength", size_t{0}) && offset + bytes <= bin_.size(),
+              "{}: accessor {} reaches beyond the binary chunk", ctx_, index);
+    std::vector<T> out(count * comps);
+    if (bytes > 0) std::memcpy(out.data(), bin_.data() + offset, bytes);
+    return out;
+  }
+  std::vector<Eigen::Vector3d> Vec3(int index) const {
+    const std::vector<float> f = Read<float>(index, kFloat, "VEC3");
+    std::vector<Eigen::Vector3d> out(f.size() / 3);
+    for (size_t i = 0; i < out.size(); ++i) out[i] = {f[3 * i], f[3 * i + 1], f[3 * i + 2]};
+    return out;
+  }
+
+ private:
+  const nlohmann::json& gltf_;
+  const std::string& bin_;
+  std::string ctx_;
+};
+
+uint32_t U32At(const std::string& s, size_t at) {
+  uint32_t v;
+  std::memcpy(&v, s.data() + at, 4);
+  return v;
+}
+
+}  // namespace
+
+AnimatedMesh ReadSegmentGlb(const fs::path& path) {
+  const std::string ctx = "ReadSegmentGlb " + path.string();
+  std::ifstream f(path, std::ios::binary);
+  U4D_CHECK(f.good(), "{}: cannot open the file", ctx);
+  const std::string glb((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  U4D_CHECK(glb.size() >= 28 && U32At(glb, 0) == 0x46546C67 && U32At(glb, 4) == 2,
+            "{}: not a binary glTF 2.0 file", ctx);
+  U4D_CHECK(U32At(glb, 8) == glb.size(), "{}: the header says {} bytes, the file has {}", ctx,
+            U32At(glb, 8), glb.size());
+  const size_t json_len = U32At(glb, 12);
+  U4D_CHECK(U32At(glb, 16) == 0x4E4F534A && 20 + json_len + 8 <= glb.size(),
+            "{}: the JSON chunk is missing or truncated", ctx);
+  const size_t bin_at = 20 + json_len;
+  const size_t bin_len = U32At(glb, bin_at);
+  U4D_CHECK(U32At(glb, bin_at + 4) == 0x004E4942 && bin_at + 8 + bin_len <= glb.size(),
+            "{}: the binary chunk is missing or truncated", ctx);
+  nlohmann::json gltf;
+  try {
+    gltf = nlohmann::json::parse(glb.substr(20, json_len));
+  } catch (const nlohmann::json::exception& e) {
+    ThrowError(fmt::format("{}: the JSON chunk does not parse: {}", ctx, e.what()));
+  }
+  const std::string bin = glb.substr(bin_at + 8, bin_len);
+  const GlbReader r(gltf, bin, ctx);
+  U4D_CHECK(gltf.contains("meshes") && !gltf["meshes"].empty() &&
+                gltf["meshes"][0].contains("primitives") &&
+                !gltf["meshes"][0]["primitives"].empty(),
+            "{}: no mesh primitive", ctx);
+  const nlohmann::json& prim = gltf["meshes"][0]["primitives"][0];
+  U4D_CHECK(prim.contains("attributes") && prim["attributes"].contains("POSITION") &&
+                prim.contains("indices"),
+            "{}: the primitive has no POSITION or no indices", ctx);
+
+  AnimatedMesh seg;
+  const nlohmann::json extras = gltf.value("extras", nlohmann::json::object());
+  seg.object_id = extras.value("object_id", 0);
+  seg.first_frame = extras.value("first_frame", 0);
+  seg.positions.push_back(r.Vec3(prim["attributes"]["POSITION"].get<int>()));
+  const size_t nv = seg.positions[0].size();
+  if (prim["attributes"].contains("COLOR_0")) {
+    seg.colors = r.Vec3(prim["attributes"]["COLOR_0"].get<int>());
+    U4D_CHECK(seg.colors.size() == nv, "{}: {} colours for {} vertices", ctx, seg.colors.size(),
+              nv);
+  }
+  const std::vector<uint32_t> idx = r.Read<uint32_t>(prim["indices"].get<int>(), kUint, "SCALAR");
+  U4D_CHECK(idx.size() % 3 == 0, "{}: {} indices is not a triangle list", ctx, idx.size());
+  for (size_t i = 0; i < idx.size(); i += 3) {
+    for (int k = 0; k < 3; ++k)
+      U4D_CHECK(idx[i + k] < nv, "{}: index {} out of range [0, {})", ctx, idx[i + k], nv);
+    seg.triangles.emplace_back(idx[i], idx[i + 1], idx[i + 2]);
+  }
+  if (prim.contains("targets"))
+    for (const nlohmann::json& t : prim["targets"]) {
+      U4D_CHECK(t.contains("POSITION"), "{}: a morph target has no POSITION", ctx);
+      std::vector<Eigen::Vector3d> p = r.Vec3(t["POSITION"].get<int>());
+      U4D_CHECK(p.size() == nv, "{}: a morph target has {} vertices, the mesh {}", ctx, p.size(),
+                nv);
+      for (size_t i = 0; i < nv; ++i) p[i] += seg.positions[0][i];
+      seg.positions.push_back(std::move(p));
+    }
+  return seg;
 }
 
 }  // namespace u4d

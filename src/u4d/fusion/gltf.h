@@ -27,4 +27,13 @@ struct GltfOptions {
 // triangle, frames of different vertex counts or a bad index.
 void WriteSegmentGlb(const fs::path& path, const AnimatedMesh& segment, const GltfOptions& options);
 
+// Reads back a segment written by WriteSegmentGlb: triangles, colours (when
+// present), object id and first frame (from "extras"), and the positions of
+// every frame (the base POSITION plus morph target k-1 for frame k, float
+// precision). tracked_fraction is not stored and comes back empty. Throws
+// u4d::Error naming the file when it is missing, truncated, not a binary
+// glTF 2.0, or when an accessor is not the float VEC3 / uint32 SCALAR layout
+// the writer uses or points outside the binary chunk.
+AnimatedMesh ReadSegmentGlb(const fs::path& path);
+
 }  // namespace u4d

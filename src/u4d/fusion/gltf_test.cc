@@ -113,6 +113,47 @@ TEST(GltfTest, GlbOfGtSegmentParsesBack) {
                    static_cast<float>(2 / 25.0));
 }
 
+// ReadSegmentGlb returns what WriteSegmentGlb wrote (to float precision), and
+// names the file and the problem for a truncated or foreign file.
+TEST(GltfTest, ReadsBackWhatWasWritten) {
+  AnimatedMesh seg;
+  seg.object_id = 7;
+  seg.first_frame = 12;
+  seg.triangles = {{0, 1, 2}, {0, 2, 3}};
+  seg.colors = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.5, 0.5, 0.5}};
+  seg.positions.push_back({{0, 0, 3}, {1, 0, 3}, {1, 1, 3}, {0, 1, 3}});
+  for (int k = 1; k < 4; ++k) {
+    seg.positions.push_back(seg.positions[0]);
+    for (auto& p : seg.positions.back()) p += Eigen::Vector3d(0.01 * k, -0.02 * k, 0.003 * k * k);
+  }
+  const fs::path dir = test_util::FreshTestDir("fusion", "gltf_read");
+  WriteSegmentGlb(dir / "7.glb", seg, {});
+  const AnimatedMesh back = ReadSegmentGlb(dir / "7.glb");
+  EXPECT_EQ(back.object_id, 7);
+  EXPECT_EQ(back.first_frame, 12);
+  EXPECT_EQ(back.triangles, seg.triangles);
+  ASSERT_EQ(back.NumFrames(), 4);
+  ASSERT_EQ(back.colors.size(), 4u);
+  double worst = 0;
+  for (int k = 0; k < 4; ++k)
+    for (int i = 0; i < 4; ++i)
+      worst = std::max(worst, (back.positions[k][i] - seg.positions[k][i]).norm());
+  EXPECT_LT(worst, 1e-5);  // float rounding of metres
+  EXPECT_LT((back.colors[2] - seg.colors[2]).norm(), 1e-6);
+
+  // Truncated: the header's length no longer matches.
+  std::ifstream in(dir / "7.glb", std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::ofstream(dir / "cut.glb", std::ios::binary).write(bytes.data(), 100);
+  test_util::ExpectErrorMentions([&] { ReadSegmentGlb(dir / "cut.glb"); },
+                                 {"cut.glb", "the header says"});
+  std::ofstream(dir / "text.glb") << "solid not a glb\n";
+  test_util::ExpectErrorMentions([&] { ReadSegmentGlb(dir / "text.glb"); },
+                                 {"text.glb", "not a binary glTF"});
+  test_util::ExpectErrorMentions([&] { ReadSegmentGlb(dir / "none.glb"); },
+                                 {"none.glb", "cannot open"});
+}
+
 TEST(GltfTest, BadSegmentsThrow) {
   AnimatedMesh seg;
   const fs::path path = test_util::FreshTestDir("fusion", "gltf_bad") / "x.glb";
