@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <ctime>
 
 #include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
@@ -106,18 +107,25 @@ struct Problem {
   double LabelUnary(int p, int ll) const {
     return label_unary[static_cast<size_t>(p) * num_labels + ll];
   }
-  double Pair(int p, int q, int lp, int lq, int dp, int dq, int mp, int mq) const {
-    return PairV(p, q, lp, lq, dp, dq, motion.motions[mp], motion.motions[mq]);
-  }
-  // The pairwise terms with the motions given as vectors (pixels).
+  // The pairwise terms with the motions given as vectors (pixels): the label
+  // and depth part (E_c, E_s) plus E_r, in this order (the blocks cache the
+  // part their factor does not change, which gives the same sums).
   double PairV(int p, int q, int lp, int lq, int dp, int dq, const Eigen::Vector2f& mp,
                const Eigen::Vector2f& mq) const {
+    return PairLabelDepth(p, q, lp, lq, dp, dq) + PairMotion(p, q, lp, lq, mp, mq);
+  }
+  double PairLabelDepth(int p, int q, int lp, int lq, int dp, int dq) const {
     double e = 0;
     if (lp != lq) {
       if (t().contrast) e += contrast[Direction(p, q, width)][p];
     } else if (t().smooth) {
       e += w().smooth * w().smooth_spatial * DepthPair(dp, dq);
     }
+    return e;
+  }
+  double PairMotion(int p, int q, int lp, int lq, const Eigen::Vector2f& mp,
+                    const Eigen::Vector2f& mq) const {
+    double e = 0;
     if (t().motion_reg) {
       double wr = 0.5 * (reg_weight[p] + reg_weight[q]);
       if (o->motion_reg_edge_aware) wr *= reg_edge[Direction(p, q, width)][p];
@@ -141,6 +149,32 @@ struct Problem {
     return e;
   }
   double Energy() const;
+
+  // Per forward pair (index 4 p + Direction(p, q)): the part of PairV that the
+  // depth block (E_r at the current l, mv) or the motion and fusion blocks
+  // (E_c + E_s at the current l, d) do not change, computed once per block.
+  std::vector<double> pair_cache;
+  enum class CachedPart { kMotion, kLabelDepth };
+  void FillPairCache(CachedPart part) {
+    pair_cache.assign(static_cast<size_t>(n) * 4, 0.0);
+    constexpr int kDx[4] = {1, -1, 0, 1}, kDy[4] = {0, 1, 1, 1};
+    tbb::parallel_for(0, height, [&](int y) {
+      for (int x = 0; x < width; ++x) {
+        const int p = y * width + x;
+        for (int k = 0; k < 4; ++k) {
+          const int qx = x + kDx[k], qy = y + kDy[k];
+          if (qx < 0 || qx >= width || qy >= height) continue;
+          const int q = qy * width + qx;
+          pair_cache[static_cast<size_t>(p) * 4 + k] =
+              part == CachedPart::kMotion ? PairMotion(p, q, l[p], l[q], mv[p], mv[q])
+                                          : PairLabelDepth(p, q, l[p], l[q], d[p], d[q]);
+        }
+      }
+    });
+  }
+  double Cached(int p, int q) const {
+    return pair_cache[static_cast<size_t>(p) * 4 + Direction(p, q, width)];
+  }
 };
 
 double Problem::Energy() const {
@@ -164,20 +198,23 @@ struct LabelBlock : mrf::GridEnergy {
     return pr.PairV(p, q, lp, lq, pr.d[p], pr.d[q], pr.mv[p], pr.mv[q]);
   }
 };
+// Needs pr.FillPairCache(kMotion) at the current l and mv.
 struct DepthBlock : mrf::GridEnergy {
   const Problem& pr;
   explicit DepthBlock(const Problem& p) : pr(p) {}
   double Unary(int p, int label) const override { return pr.DepthUnary(p, label, pr.mv[p]); }
   double Pairwise(int p, int q, int dp, int dq) const override {
-    return pr.PairV(p, q, pr.l[p], pr.l[q], dp, dq, pr.mv[p], pr.mv[q]);
+    return pr.PairLabelDepth(p, q, pr.l[p], pr.l[q], dp, dq) + pr.Cached(p, q);
   }
 };
+// Needs pr.FillPairCache(kLabelDepth) at the current l and d.
 struct MotionBlock : mrf::GridEnergy {
   const Problem& pr;
   explicit MotionBlock(const Problem& p) : pr(p) {}
   double Unary(int p, int label) const override { return pr.MotionUnary(p, label, pr.d[p]); }
   double Pairwise(int p, int q, int mp, int mq) const override {
-    return pr.Pair(p, q, pr.l[p], pr.l[q], pr.d[p], pr.d[q], mp, mq);
+    return pr.Cached(p, q) +
+           pr.PairMotion(p, q, pr.l[p], pr.l[q], pr.motion.motions[mp], pr.motion.motions[mq]);
   }
 };
 // Fusion of the current motion (binary label 0) with a proposal (label 1):
@@ -192,8 +229,8 @@ struct FusionBlock : mrf::GridEnergy {
   double Unary(int p, int k) const override {
     return pr.MotionUnary(p, M(p, k), k == 0 ? pr.fcost[p] : pf[p], pr.d[p]);
   }
-  double Pairwise(int p, int q, int kp, int kq) const override {
-    return pr.PairV(p, q, pr.l[p], pr.l[q], pr.d[p], pr.d[q], M(p, kp), M(q, kq));
+  double Pairwise(int p, int q, int kp, int kq) const override {  // needs kLabelDepth cached
+    return pr.Cached(p, q) + pr.PairMotion(p, q, pr.l[p], pr.l[q], M(p, kp), M(q, kq));
   }
 };
 
@@ -294,6 +331,16 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
   o.Check();
   CheckInput(in);
   Timer timer;
+  JointViewResult result;
+  Timer phase_timer;
+  std::clock_t phase_cpu = std::clock();
+  auto end_phase = [&](const char* name) {
+    const std::clock_t now = std::clock();
+    result.phases.push_back(
+        {name, phase_timer.Seconds(), static_cast<double>(now - phase_cpu) / CLOCKS_PER_SEC});
+    phase_timer = Timer();
+    phase_cpu = now;
+  };
   const int v = in.ref_view;
   const Camera& cam = in.cameras_t[v];
   const bool has_next = !in.images_t1.empty();
@@ -343,6 +390,7 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
       pr.label_unary[static_cast<size_t>(p) * in.num_labels + l] = static_cast<float>(e);
     }
   });
+  end_phase("label unaries");
 
   // ---- Pairwise weights: E_c and the E_r weights.
   pr.pairs = mrf::NeighbourPairs(pr.grid);
@@ -373,6 +421,7 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
                                             (1.0 + o.weights.motion_reg_label * spread_l[p] +
                                              o.weights.motion_reg_app * spread_a[p]));
   }
+  end_phase("pairwise weights");
 
   // ---- Depth labels and E_d over the objects' depth range.
   double near = 1e30, far = 0;
@@ -397,6 +446,7 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
       pr.previous_depth_label[p] = best;
     }
   }
+  end_phase("depth volume");
 
   // ---- Motion labels and E_f (cross-view part with the plane-sweep depth).
   std::vector<SparseMotion> sparse = in.sparse;
@@ -429,6 +479,7 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
     pr.motion.motions = {Eigen::Vector2f::Zero()};
     pr.motion.cost.assign(pr.n, 0.f);
   }
+  end_phase("flow volume");
   const int num_motions = pr.motion.NumLabels();
   int zero_motion = 0;
   for (int i = 0; i < num_motions; ++i)
@@ -453,8 +504,8 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
     }
   });
   pr.SyncMotion();
+  end_phase("initial labelling");
 
-  JointViewResult result;
   result.roi = roi;
   result.plane_sweep_depth = wta_depth;
   result.num_depth_labels = pr.unknown + 1;
@@ -469,24 +520,46 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
   for (int i = 0; i < in.num_labels; ++i) label_candidates[i] = i;
   for (int i = 0; i <= pr.unknown; ++i) depth_candidates[i] = i;
   for (int i = 0; i < num_motions; ++i) motion_candidates[i] = i;
+  double block_seconds[3] = {0, 0, 0}, block_cpu[3] = {0, 0, 0};
+  auto cpu_since = [](std::clock_t start) {
+    return static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
+  };
   for (int round = 0; round < o.rounds; ++round) {
     Timer block_timer;
+    std::clock_t block_start = std::clock();
     mrf::AlphaExpansion(pr.grid, LabelBlock(pr), label_candidates, &pr.l, eo);
     result.energy_trace.push_back({"labels", pr.Energy(), block_timer.Seconds()});
+    block_seconds[0] += result.energy_trace.back().seconds;
+    block_cpu[0] += cpu_since(block_start);
     block_timer = Timer();
+    block_start = std::clock();
+    pr.FillPairCache(Problem::CachedPart::kMotion);
     mrf::AlphaExpansion(pr.grid, DepthBlock(pr), depth_candidates, &pr.d, eo);
     result.energy_trace.push_back({"depth", pr.Energy(), block_timer.Seconds()});
+    block_seconds[1] += result.energy_trace.back().seconds;
+    block_cpu[1] += cpu_since(block_start);
     if (has_next) {
       block_timer = Timer();
+      block_start = std::clock();
+      pr.FillPairCache(Problem::CachedPart::kLabelDepth);
       mrf::AlphaExpansion(pr.grid, MotionBlock(pr), motion_candidates, &pr.m, eo);
       pr.SyncMotion();
       result.energy_trace.push_back({"motion", pr.Energy(), block_timer.Seconds()});
+      block_seconds[2] += result.energy_trace.back().seconds;
+      block_cpu[2] += cpu_since(block_start);
     }
   }
+
+  result.phases.push_back({"labels", block_seconds[0], block_cpu[0]});
+  result.phases.push_back({"depth", block_seconds[1], block_cpu[1]});
+  if (has_next) result.phases.push_back({"motion", block_seconds[2], block_cpu[2]});
+  phase_timer = Timer();
+  phase_cpu = std::clock();
 
   // ---- Flow fusion: continuous proposals fused under the full energy (l, d fixed).
   if (has_next && o.fusion.enabled && o.terms.flow) {
     Timer block_timer;
+    pr.FillPairCache(Problem::CachedPart::kLabelDepth);  // FusionBlock
     const MotionLabelGrid index(pr.motion.motions);
     std::vector<cv::Mat> external;  // proposals that do not depend on the state
     {
@@ -503,6 +576,7 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
       }
       if (external.size() == 2) external.push_back(0.5 * (external[0] + external[1]));
     }
+    end_phase("fusion proposals");
     auto current_field = [&] {
       cv::Mat f(pr.height, pr.width, CV_32FC2);
       for (int p = 0; p < pr.n; ++p) f.ptr<cv::Vec2f>()[p] = cv::Vec2f(pr.mv[p].x(), pr.mv[p].y());
@@ -551,6 +625,7 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
       }
     }
     result.energy_trace.push_back({"fusion", pr.Energy(), block_timer.Seconds()});
+    end_phase("fusion moves");
   }
 
   // ---- Outputs: labels, sub-sample depth on object pixels, sub-pixel flow.

@@ -157,6 +157,17 @@ struct JointViewResult {
   std::vector<EnergyStep> energy_trace;
   int num_depth_labels = 0, num_motion_labels = 0;
   double seconds = 0;
+  // Time of the phases, in order: the set-up ("label unaries", "pairwise
+  // weights", "depth volume", "flow volume", "initial labelling"), the blocks
+  // summed over the rounds ("labels", "depth", "motion") and the fusion stage
+  // ("fusion proposals": DeepFlow, DIS; "fusion moves"). For profiling
+  // (bench/joint_phases_bench, docs/joint.md "Speed").
+  struct Phase {
+    std::string name;
+    double seconds = 0;      // wall clock
+    double cpu_seconds = 0;  // process CPU time (all threads; includes any concurrent work)
+  };
+  std::vector<Phase> phases;
 };
 
 // Throws u4d::Error on inconsistent input (sizes, counts, label ids).

@@ -1,6 +1,7 @@
 #include "u4d/joint/label_costs.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <numeric>
 #include <random>
@@ -8,7 +9,6 @@
 #include <tbb/parallel_for.h>
 #include <Eigen/LU>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/ml.hpp>
 
 #include "u4d/util/check.h"
 
@@ -28,6 +28,157 @@ void NormaliseToBest(double scale, LabelCostVolume* volume) {
       c = static_cast<float>(std::clamp((c - best) / scale, 0.0, 1.0));
     }
   });
+}
+
+// A full-covariance GMM as cv::ml::EM returns it.
+struct GmmParameters {
+  std::vector<double> weights;
+  std::vector<Eigen::Vector3d> means;
+  std::vector<Eigen::Matrix3d> covs;
+};
+
+// Eigen-decomposition of one covariance as cv::ml::EM keeps it (SVD, eigenvalues
+// floored at DBL_EPSILON).
+struct CovarianceBasis {
+  Eigen::Matrix3d rotate;     // columns: eigenvectors (svd.u)
+  Eigen::Vector3d inv_eigen;  // 1 / eigenvalue
+  double log_det = 0;         // sum of log eigenvalues
+};
+
+CovarianceBasis Decompose(const Eigen::Matrix3d& cov) {
+  cv::Mat c(3, 3, CV_64F);
+  for (int r = 0; r < 3; ++r)
+    for (int j = 0; j < 3; ++j) c.at<double>(r, j) = cov(r, j);
+  const cv::SVD svd(c, cv::SVD::FULL_UV);
+  CovarianceBasis b;
+  for (int d = 0; d < 3; ++d) {
+    const double e = std::max(svd.w.at<double>(d), DBL_EPSILON);
+    b.inv_eigen[d] = 1.0 / e;
+    b.log_det += std::log(e);
+    for (int r = 0; r < 3; ++r) b.rotate(r, d) = svd.u.at<double>(r, d);
+  }
+  return b;
+}
+
+// EM for a full-covariance GMM over 3-vectors: the algorithm and arithmetic of
+// cv::ml::EM::trainEM (OpenCV 4.x, START_AUTO_STEP, COV_MAT_GENERIC) written
+// out, because cv::ml::EM evaluates every sample and component with small
+// cv::Mat operations and took ~1 s per GMM (a third of a joint view solve;
+// docs/joint.md, "Speed"). Initialisation: cv::kmeans (k-means++, 10
+// attempts, 10 iterations; draws from cv::theRNG()), covariances of the
+// clusters; then E and M steps until the log-likelihood gains less than
+// `eps` relative or `max_iters` E steps. The fit equals cv::ml::EM's up to
+// floating-point rounding (same initialisation, same update order).
+GmmParameters TrainGmm(const cv::Mat& samples64, int k, int max_iters, double eps) {
+  const int n = samples64.rows;
+  U4D_CHECK(samples64.type() == CV_64FC1 && samples64.cols == 3 && n >= k && k >= 1,
+            "TrainGmm: need a CV_64F n x 3 sample matrix with n >= k = {}, got {} x {}", k, n,
+            samples64.cols);
+  cv::Mat samples32;
+  samples64.convertTo(samples32, CV_32F);
+  cv::Mat labels, centres32;
+  cv::kmeans(samples32, k, labels, cv::TermCriteria(cv::TermCriteria::COUNT, 10, 0.5), 10,
+             cv::KMEANS_PP_CENTERS, centres32);
+  std::vector<Eigen::Vector3d> x(n);
+  for (int s = 0; s < n; ++s)
+    x[s] = Eigen::Vector3d(samples32.at<float>(s, 0), samples32.at<float>(s, 1),
+                           samples32.at<float>(s, 2));
+
+  GmmParameters g;
+  g.weights.assign(k, 0.0);
+  g.means.resize(k);
+  g.covs.resize(k);
+  std::vector<CovarianceBasis> basis(k);
+  for (int c = 0; c < k; ++c) {
+    g.means[c] = Eigen::Vector3d(centres32.at<float>(c, 0), centres32.at<float>(c, 1),
+                                 centres32.at<float>(c, 2));
+    cv::Mat members;
+    for (int s = 0; s < n; ++s)
+      if (labels.at<int>(s) == c) members.push_back(samples64.row(s));
+    U4D_CHECK(!members.empty(), "TrainGmm: k-means left cluster {} of {} empty", c, k);
+    const cv::Mat mean = (cv::Mat_<double>(1, 3) << g.means[c].x(), g.means[c].y(), g.means[c].z());
+    cv::Mat cov;
+    cv::calcCovarMatrix(members, cov, mean,
+                        cv::COVAR_NORMAL | cv::COVAR_ROWS | cv::COVAR_USE_AVG | cv::COVAR_SCALE,
+                        CV_64F);
+    for (int r = 0; r < 3; ++r)
+      for (int j = 0; j < 3; ++j) g.covs[c](r, j) = cov.at<double>(r, j);
+    g.weights[c] = static_cast<double>(members.rows) / n;
+    basis[c] = Decompose(g.covs[c]);
+  }
+
+  std::vector<double> probs(static_cast<size_t>(n) * k), L(k);
+  const double log_2pi = std::log(2 * kPi);
+  double prev_log_likelihood = 0, log_likelihood = 0;
+  for (int iter = 0;; ++iter) {
+    // E step.
+    std::vector<double> log_weight_div_det(k);
+    for (int c = 0; c < k; ++c) {
+      g.weights[c] = std::max(g.weights[c], DBL_MIN);
+      log_weight_div_det[c] = std::log(g.weights[c]) - 0.5 * basis[c].log_det;
+    }
+    log_likelihood = 0;
+    for (int s = 0; s < n; ++s) {
+      int label = 0;
+      for (int c = 0; c < k; ++c) {
+        const Eigen::Vector3d d = x[s] - g.means[c];
+        double l = 0;
+        for (int j = 0; j < 3; ++j) {
+          const Eigen::Matrix3d& u = basis[c].rotate;
+          const double v = d[0] * u(0, j) + d[1] * u(1, j) + d[2] * u(2, j);
+          l += basis[c].inv_eigen[j] * v * v;
+        }
+        L[c] = log_weight_div_det[c] - 0.5 * l;
+        if (L[c] > L[label]) label = c;
+      }
+      const double max_l = L[label];
+      double sum = 0;
+      for (int c = 0; c < k; ++c) sum += (L[c] = std::exp(L[c] - max_l));
+      const double scale = 1.0 / sum;
+      for (int c = 0; c < k; ++c) probs[static_cast<size_t>(s) * k + c] = L[c] * scale;
+      log_likelihood += std::log(sum) + max_l - 1.5 * log_2pi;
+    }
+    if (iter >= max_iters - 1) break;
+    const double delta = log_likelihood - prev_log_likelihood;
+    if (iter != 0 && (delta < -DBL_EPSILON || delta < eps * std::abs(log_likelihood))) break;
+
+    // M step.
+    std::fill(g.weights.begin(), g.weights.end(), 0.0);
+    for (int s = 0; s < n; ++s)
+      for (int c = 0; c < k; ++c) g.weights[c] += probs[static_cast<size_t>(s) * k + c];
+    const double min_pos_weight = n * DBL_EPSILON;
+    double min_weight = DBL_MAX;
+    int min_weight_cluster = -1;
+    for (int c = 0; c < k; ++c) {
+      g.means[c].setZero();
+      if (g.weights[c] <= min_pos_weight) continue;
+      if (g.weights[c] < min_weight) min_weight = g.weights[c], min_weight_cluster = c;
+      for (int s = 0; s < n; ++s) g.means[c] += probs[static_cast<size_t>(s) * k + c] * x[s];
+      g.means[c] /= g.weights[c];
+    }
+    for (int c = 0; c < k; ++c) {
+      if (g.weights[c] <= min_pos_weight) continue;
+      Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+      for (int s = 0; s < n; ++s) {
+        const Eigen::Vector3d d = x[s] - g.means[c];
+        const double p = probs[static_cast<size_t>(s) * k + c];
+        for (int r = 0; r < 3; ++r)
+          for (int j = 0; j < 3; ++j) cov(r, j) += p * (d[r] * d[j]);
+      }
+      g.covs[c] = cov / g.weights[c];
+      basis[c] = Decompose(g.covs[c]);
+    }
+    for (int c = 0; c < k; ++c)
+      if (g.weights[c] <= min_pos_weight) {
+        g.means[c] = g.means[min_weight_cluster];
+        g.covs[c] = g.covs[min_weight_cluster];
+        basis[c] = basis[min_weight_cluster];
+      }
+    for (double& w : g.weights) w /= n;
+    prev_log_likelihood = log_likelihood;
+  }
+  U4D_CHECK(log_likelihood > -DBL_MAX / 10000., "TrainGmm: EM diverged on {} samples", n);
+  return g;
 }
 
 }  // namespace
@@ -78,23 +229,9 @@ ColorGmm FitColorGmm(const std::vector<cv::Vec3b>& samples, int components, uint
     return gmm;
   }
   cv::RNG rng_state(seed);
-  cv::theRNG() = rng_state;  // EM's k-means initialisation draws from OpenCV's thread-local RNG
-  cv::Ptr<cv::ml::EM> em = cv::ml::EM::create();
-  em->setClustersNumber(k);
-  em->setCovarianceMatrixType(cv::ml::EM::COV_MAT_GENERIC);
-  em->setTermCriteria(cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 30, 1e-3));
-  U4D_CHECK(em->trainEM(data), "FitColorGmm: EM failed on {} samples", samples.size());
-  const cv::Mat means = em->getMeans();
-  const cv::Mat weights = em->getWeights();
-  std::vector<cv::Mat> covs;
-  em->getCovs(covs);
-  for (int i = 0; i < k; ++i) {
-    Eigen::Vector3d mean(means.at<double>(i, 0), means.at<double>(i, 1), means.at<double>(i, 2));
-    Eigen::Matrix3d cov;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) cov(r, c) = covs[i].at<double>(r, c);
-    add_component(weights.at<double>(0, i), mean, cov);
-  }
+  cv::theRNG() = rng_state;  // k-means++ initialisation draws from OpenCV's thread-local RNG
+  const GmmParameters fit = TrainGmm(data, k, 30, 1e-3);
+  for (int i = 0; i < k; ++i) add_component(fit.weights[i], fit.means[i], fit.covs[i]);
   return gmm;
 }
 

@@ -37,7 +37,8 @@ struct ColorGmm {
   bool Empty() const { return weights.empty(); }
 };
 
-// EM fit (cv::ml::EM, full covariances) with at most `components`; fewer when
+// EM fit (full covariances; cv::ml::EM's algorithm written out, label_costs.cc
+// TrainGmm) with at most `components`; fewer when
 // there are few samples (>= 8 samples per component). A tiny diagonal term
 // keeps covariances invertible. Throws u4d::Error when `samples` is empty.
 ColorGmm FitColorGmm(const std::vector<cv::Vec3b>& samples, int components, uint64_t seed);

@@ -51,8 +51,28 @@ void CheckLabels(const GridGraph& grid, const std::vector<int>& labels, const ch
   }
 }
 
+// The rectangle [x0, x1] x [y0, y1] holding every active pixel (empty: x0 > x1).
+struct ActiveBox {
+  int x0 = 0, x1 = -1, y0 = 0, y1 = -1;
+};
+
+ActiveBox FindActiveBox(const GridGraph& grid) {
+  if (grid.active.empty()) return {0, grid.width - 1, 0, grid.height - 1};
+  ActiveBox b{grid.width, -1, grid.height, -1};
+  for (int y = 0; y < grid.height; ++y) {
+    const uint8_t* row = grid.active.data() + static_cast<size_t>(y) * grid.width;
+    for (int x = 0; x < grid.width; ++x)
+      if (row[x]) {
+        b.x0 = std::min(b.x0, x), b.x1 = std::max(b.x1, x);
+        b.y0 = std::min(b.y0, y), b.y1 = std::max(b.y1, y);
+      }
+  }
+  return b;
+}
+
 // Buffers reused across the moves of one AlphaExpansion.
 struct Workspace {
+  ActiveBox box;                 // the moves only visit pixels in and next to it
   std::vector<int> node_of;      // pixel -> graph node, -1 = fixed
   std::vector<int> node_pixel;   // graph node -> pixel
   std::vector<double> unary;     // per node: E(x=1) - E(x=0) of its unary-like terms
@@ -61,7 +81,62 @@ struct Workspace {
   FlowGraph graph;
   MinCut cut;
   MinCutSolver solver;
+  // AlphaExpansion only: the energy terms at the current labels, which every
+  // move needs again (E(x = 0)); updated around the pixels an accepted move
+  // changes. The energy is a function of (pixel, labels), so the values are
+  // the ones the move would compute. Empty = not cached.
+  std::vector<double> current_unary;  // per pixel: Unary(p, labels[p])
+  std::vector<double> current_pair;   // per pixel and forward neighbour k: Pairwise(p, q, ...)
+
+  bool Cached() const { return !current_unary.empty(); }
+  void Cache(const GridGraph& grid, const GridEnergy& energy, const std::vector<int>& labels);
+  void Update(const GridGraph& grid, const GridEnergy& energy, const std::vector<int>& labels,
+              int p);
 };
+
+void Workspace::Cache(const GridGraph& grid, const GridEnergy& energy,
+                      const std::vector<int>& labels) {
+  const int w = grid.width, h = grid.height, num_fwd = NumForward(grid);
+  const Offset* fwd = Forward(grid);
+  current_unary.assign(static_cast<size_t>(w) * h, 0.0);
+  current_pair.assign(static_cast<size_t>(w) * h * num_fwd, 0.0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int p = y * w + x;
+      current_unary[p] = energy.Unary(p, labels[p]);
+      for (int k = 0; k < num_fwd; ++k) {
+        const int qx = x + fwd[k].dx, qy = y + fwd[k].dy;
+        if (qx < 0 || qx >= w || qy >= h) continue;
+        const int q = qy * w + qx;
+        current_pair[static_cast<size_t>(p) * num_fwd + k] =
+            energy.Pairwise(p, q, labels[p], labels[q]);
+      }
+    }
+}
+
+// Pixel p changed its label: its unary and the pairs it is part of.
+void Workspace::Update(const GridGraph& grid, const GridEnergy& energy,
+                       const std::vector<int>& labels, int p) {
+  const int w = grid.width, h = grid.height, num_fwd = NumForward(grid);
+  const Offset* fwd = Forward(grid);
+  current_unary[p] = energy.Unary(p, labels[p]);
+  const int x = p % w, y = p / w;
+  for (int k = 0; k < num_fwd; ++k) {
+    // p as the first pixel of the pair (q = p + offset) and as the second (o = p - offset).
+    const int qx = x + fwd[k].dx, qy = y + fwd[k].dy;
+    if (qx >= 0 && qx < w && qy < h) {
+      const int q = qy * w + qx;
+      current_pair[static_cast<size_t>(p) * num_fwd + k] =
+          energy.Pairwise(p, q, labels[p], labels[q]);
+    }
+    const int ox = x - fwd[k].dx, oy = y - fwd[k].dy;
+    if (ox >= 0 && ox < w && oy >= 0) {
+      const int o = oy * w + ox;
+      current_pair[static_cast<size_t>(o) * num_fwd + k] =
+          energy.Pairwise(o, p, labels[o], labels[p]);
+    }
+  }
+}
 
 // One binary move: pixel p may switch from labels[p] to proposal(p).
 template <typename Proposal>
@@ -72,27 +147,35 @@ MoveResult Move(const GridGraph& grid, const GridEnergy& energy, const Proposal&
   MoveResult result;
   result.energy_before = result.energy_after = energy_before;
 
-  // Nodes: active pixels whose label differs from the proposal.
+  // Nodes: active pixels whose label differs from the proposal. Only the box
+  // of the active pixels is visited (in the same row-major order as the whole
+  // grid, so the graph is the same).
+  const ActiveBox& box = ws.box;
+  if (box.x0 > box.x1) return result;
   ws.node_of.assign(n, -1);
   ws.node_pixel.clear();
   ws.unary.clear();
-  for (int p = 0; p < n; ++p) {
-    if (!grid.IsActive(p)) continue;
-    const int a = proposal(p);
-    if (a == labels[p]) continue;
-    ws.node_of[p] = static_cast<int>(ws.node_pixel.size());
-    ws.node_pixel.push_back(p);
-    ws.unary.push_back(energy.Unary(p, a) - energy.Unary(p, labels[p]));
-  }
+  for (int y = box.y0; y <= box.y1; ++y)
+    for (int p = y * w + box.x0; p <= y * w + box.x1; ++p) {
+      if (!grid.IsActive(p)) continue;
+      const int a = proposal(p);
+      if (a == labels[p]) continue;
+      ws.node_of[p] = static_cast<int>(ws.node_pixel.size());
+      ws.node_pixel.push_back(p);
+      ws.unary.push_back(energy.Unary(p, a) -
+                         (ws.Cached() ? ws.current_unary[p] : energy.Unary(p, labels[p])));
+    }
   const int num_nodes = static_cast<int>(ws.node_pixel.size());
   if (num_nodes == 0) return result;
   ws.graph.Reset(num_nodes);
 
-  // Pairwise terms touching a node.
+  // Pairwise terms touching a node: p is in the box or one row above it or
+  // one column beside it (forward neighbours have dy >= 0, |dx| <= 1).
   const Offset* fwd = Forward(grid);
   const int num_fwd = NumForward(grid);
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
+  const int px0 = std::max(box.x0 - 1, 0), px1 = std::min(box.x1 + 1, w - 1);
+  for (int y = std::max(box.y0 - 1, 0); y <= box.y1; ++y) {
+    for (int x = px0; x <= px1; ++x) {
       const int p = y * w + x;
       const int np = ws.node_of[p];
       for (int k = 0; k < num_fwd; ++k) {
@@ -102,9 +185,10 @@ MoveResult Move(const GridGraph& grid, const GridEnergy& energy, const Proposal&
         const int nq = ws.node_of[q];
         if (np < 0 && nq < 0) continue;
         const int lp = labels[p], lq = labels[q];
+        const double e00 = ws.Cached() ? ws.current_pair[static_cast<size_t>(p) * num_fwd + k]
+                                       : energy.Pairwise(p, q, lp, lq);
         if (np >= 0 && nq >= 0) {
           const int ap = proposal(p), aq = proposal(q);
-          const double e00 = energy.Pairwise(p, q, lp, lq);
           double e01 = energy.Pairwise(p, q, lp, aq);
           double e10 = energy.Pairwise(p, q, ap, lq);
           const double e11 = energy.Pairwise(p, q, ap, aq);
@@ -120,9 +204,9 @@ MoveResult Move(const GridGraph& grid, const GridEnergy& energy, const Proposal&
           const double cap = e01 + e10 - e00 - e11;
           if (cap > 0) ws.graph.edges.push_back({np, nq, cap, 0.0});
         } else if (np >= 0) {
-          ws.unary[np] += energy.Pairwise(p, q, proposal(p), lq) - energy.Pairwise(p, q, lp, lq);
+          ws.unary[np] += energy.Pairwise(p, q, proposal(p), lq) - e00;
         } else {
-          ws.unary[nq] += energy.Pairwise(p, q, lp, proposal(q)) - energy.Pairwise(p, q, lp, lq);
+          ws.unary[nq] += energy.Pairwise(p, q, lp, proposal(q)) - e00;
         }
       }
     }
@@ -168,6 +252,8 @@ MoveResult Move(const GridGraph& grid, const GridEnergy& energy, const Proposal&
   }
   if (delta < 0) {
     for (const int p : ws.changed_list) labels[p] = proposal(p);
+    if (ws.Cached())
+      for (const int p : ws.changed_list) ws.Update(grid, energy, labels, p);
     result.accepted = true;
     result.changed_pixels = static_cast<int>(ws.changed_list.size());
     result.energy_after = energy_before + delta;
@@ -222,6 +308,7 @@ MoveResult ExpansionMove(const GridGraph& grid, const GridEnergy& energy, int al
   U4D_CHECK(alpha >= 0, "ExpansionMove: alpha must be >= 0, got {}", alpha);
   const double e = Energy(grid, energy, *labels);  // checks grid and labels
   Workspace ws;
+  ws.box = FindActiveBox(grid);
   MoveResult r = Move(
       grid, energy, [alpha](int) { return alpha; }, *labels, e, algorithm, ws);
   // Re-sum: energy_before + delta loses precision when kInfiniteCost terms are involved.
@@ -236,6 +323,7 @@ MoveResult FusionMove(const GridGraph& grid, const GridEnergy& energy,
   const double e = Energy(grid, energy, *labels);
   CheckLabels(grid, proposal, "FusionMove proposal");
   Workspace ws;
+  ws.box = FindActiveBox(grid);
   MoveResult r = Move(
       grid, energy, [&proposal](int p) { return proposal[p]; }, *labels, e, algorithm, ws);
   if (r.accepted) r.energy_after = Energy(grid, energy, *labels);  // re-sum, as above
@@ -256,6 +344,8 @@ ExpansionSummary AlphaExpansion(const GridGraph& grid, const GridEnergy& energy,
   summary.initial_energy = summary.final_energy = e;
   if (candidate_labels.empty()) return summary;
   Workspace ws;
+  ws.box = FindActiveBox(grid);
+  ws.Cache(grid, energy, *labels);
   for (int sweep = 0; sweep < options.max_sweeps; ++sweep) {
     const double e_start = e;
     int accepted = 0;

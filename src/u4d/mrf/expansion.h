@@ -60,6 +60,8 @@ struct GridGraph {
 std::vector<std::pair<int, int>> NeighbourPairs(const GridGraph& grid);
 
 // The energy E(f) = sum_p Unary(p, f_p) + sum_{(p,q)} Pairwise(p, q, f_p, f_q).
+// Both must be functions of their arguments only while a move or an
+// AlphaExpansion runs: AlphaExpansion caches the terms at the current labels.
 class GridEnergy {
  public:
   virtual ~GridEnergy() = default;
