@@ -2,7 +2,8 @@
 // motion (paper Sec. 2.1, src/u4d/joint/joint_view.h, docs/joint.md) on a
 // synthetic capture, against the baselines measured in the same run:
 //   segmentation  initial masks, GrabCut seeded with them, joint, ablations
-//   depth         winner-take-all plane sweep on the same cost volume, joint, ablations
+//   depth         winner-take-all plane sweep on the same cost volume, OpenCV SGBM on
+//                 rectified pairs (median-fused), joint, ablations
 //   flow          zero, DIS, DeepFlow, Farneback, joint, ablations
 // Inputs are built as in joint_view_test.cc: GT 3D poses stand in for the
 // tracked poses and the sparse motions are GT flow sampled at random GT-valid
@@ -12,7 +13,11 @@
 //       [--start 128] [--preset handshake|meetup] [--sparse 150] [--no-ablations]
 //       [--max-views N] [--working-width 480] [--methods full,P_M,...]
 //       [--reg-boundary free|discontinuity|ignore] [--weights '{"pose": 0.9}'] [--no-cross-view]
-//       [--reg-linear] [--no-reg-edge]
+//       [--reg-linear] [--no-reg-edge] [--force-merge] [--no-split-merged]
+// --force-merge: the detector merges every touching pair (MaskDegradeOptions
+// merge_prob = 1, the other degradations at their defaults) and, unless
+// --start is given, the window is centred on the handshake (the hands meet);
+// prints per view-frame whether the merged pair comes out as two instances.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -29,6 +34,7 @@
 #include "u4d/eval/flow_baselines.h"
 #include "u4d/eval/grabcut_baseline.h"
 #include "u4d/eval/segmentation_metrics.h"
+#include "u4d/eval/stereo_baseline.h"
 #include "u4d/io/capture.h"
 #include "u4d/io/image_io.h"
 #include "u4d/io/instance_mask.h"
@@ -59,6 +65,9 @@ struct Args {
   std::string methods;      // comma-separated subset of full and the ablations (empty = all)
   std::string
       reg_boundary;  // E_r at label boundaries: free | discontinuity | ignore (empty = default)
+  bool force_merge = false;  // every touching pair merged in the initial masks (see above)
+  bool start_given = false;  // --start was given
+  bool split_merged = true;  // FrameSetupOptions::split_merged (--no-split-merged: off)
 };
 
 Args ParseArgs(int argc, char** argv) {
@@ -78,7 +87,11 @@ Args ParseArgs(int argc, char** argv) {
     else if (k == "--frames")
       a.frames = std::stoi(next());
     else if (k == "--start")
-      a.start = std::stoi(next());
+      a.start = std::stoi(next()), a.start_given = true;
+    else if (k == "--force-merge")
+      a.force_merge = true;
+    else if (k == "--no-split-merged")
+      a.split_merged = false;
     else if (k == "--preset")
       a.preset = next();
     else if (k == "--sparse")
@@ -105,7 +118,8 @@ Args ParseArgs(int argc, char** argv) {
       throw Error(fmt::format(
           "joint_bench: unknown argument '{}' (expected --views, --width, --height, --frames, "
           "--start, --preset, --sparse, --no-ablations, --max-views, --working-width, --methods, "
-          "--reg-boundary, --weights, --no-cross-view, --reg-linear, --no-reg-edge)",
+          "--reg-boundary, --weights, --no-cross-view, --reg-linear, --no-reg-edge, --force-merge, "
+          "--no-split-merged)",
           k));
   }
   U4D_CHECK(a.frames >= 3, "joint_bench: --frames must be >= 3 (frames 1..frames-2 are solved)");
@@ -132,6 +146,13 @@ struct Stats {
   double seconds = 0;
   int runs = 0;
   bool has_seg = false, has_depth = false, has_flow = false;
+};
+
+// --force-merge: the view-frames whose initial masks merge >= 2 GT people.
+struct MergeStats {
+  eval::InstanceSegAccumulator seg;
+  int view_frames = 0;
+  int split = 0;  // every GT person matched by its own instance with IoU >= match_iou
 };
 
 // Per energy-trace step (same schedule for every view): energy / E_init and time.
@@ -164,10 +185,14 @@ int main(int argc, char** argv) try {
     }
   }
   so.start_frame = args.start;
+  if (args.force_merge) {
+    so.masks.merge_prob = 1;
+    if (!args.start_given) so.start_frame = -1;  // centred on the handshake
+  }
   Timer gen_timer;
   const fs::path dir = synth::WriteCaptureToTempDir("joint_bench", so);
   std::printf("capture: %s, %d views %dx%d, %d frames from script frame %d (generated in %.1f s)\n",
-              args.preset.c_str(), args.views, args.width, args.height, args.frames, args.start,
+              args.preset.c_str(), args.views, args.width, args.height, args.frames, so.start_frame,
               gen_timer.Seconds());
 
   const Capture capture = ReadCapture(dir);
@@ -187,7 +212,8 @@ int main(int argc, char** argv) try {
   }
 
   std::map<std::string, Stats> stats;
-  std::vector<std::string> order = {"initial", "grabcut", "wta", "zero"};
+  std::map<std::string, MergeStats> merge_stats;
+  std::vector<std::string> order = {"detector", "initial", "grabcut", "wta", "sgbm", "zero"};
   for (eval::FlowBaseline b : eval::AllFlowBaselines()) order.push_back(eval::ToString(b));
   for (const std::string& m : methods) order.push_back(m);
   std::vector<TraceStats> trace;
@@ -195,6 +221,7 @@ int main(int argc, char** argv) try {
   const eval::InstanceSegOptions seg_options;
   FrameSetupOptions setup;
   setup.working_width = args.working_width;
+  setup.split_merged = args.split_merged;
   double scale = 0;
 
   for (int frame = 1; frame + 1 < capture.num_frames; ++frame) {
@@ -231,10 +258,25 @@ int main(int argc, char** argv) try {
       const ViewTruth t = ScaleTruth(truth[v], in.initial_labels.size(), scale);
       const cv::Mat people = t.instances.ids > 0;
       const std::string ctx = fmt::format("frame {} view {}", frame, v);
+      bool merged_input = false;
+      std::string merge_line;
       auto add_seg = [&](const std::string& m, const cv::Mat& labels, double seconds) {
         Stats& s = stats[m];
         const eval::InstanceSegResult r =
             eval::EvaluateInstances(PersonInstances(labels), t.instances, seg_options, ctx);
+        if (m == "detector") merged_input = r.merged > 0;
+        if (merged_input) {
+          MergeStats& ms = merge_stats[m];
+          int matched = 0;
+          for (const eval::InstanceMatch& match : r.matches)
+            matched += match.pred_id != 0 && match.iou >= seg_options.match_iou;
+          const bool split = r.num_gt >= 2 && matched == r.num_gt;
+          ms.seg.Add(r);
+          ++ms.view_frames;
+          ms.split += split;
+          merge_line +=
+              fmt::format(" {} {}{:.3f}", m, split ? "split " : "MERGED ", r.mean_instance_iou);
+        }
         s.seg.Add(r);
         s.has_seg = true;
         s.seconds += seconds;
@@ -250,6 +292,14 @@ int main(int argc, char** argv) try {
         stats[m].has_flow = true;
       };
 
+      if (args.force_merge) {  // the detector's own instances, before AssignInstancesToPeople
+        cv::Mat detector = data.masks_t[v].empty()
+                               ? cv::Mat::zeros(in.initial_labels.size(), CV_16U)
+                               : data.masks_t[v];
+        if (detector.size() != in.initial_labels.size())
+          cv::resize(detector, detector, in.initial_labels.size(), 0, 0, cv::INTER_NEAREST);
+        add_seg("detector", detector, 0);
+      }
       const double iou_initial = add_seg("initial", in.initial_labels, 0);
       Timer timer;
       const cv::Mat grabcut = eval::GrabCutInstances(in.images_t[v], in.initial_labels);
@@ -290,6 +340,13 @@ int main(int argc, char** argv) try {
       stats["wta"].seconds += timer.Seconds();
       ++stats["wta"].runs;
       add_depth("wta", wta);
+      // OpenCV SGBM on rectified pairs with the 2 nearest views, median-fused
+      // (eval/stereo_baseline.h), searched over the same depth range.
+      timer.Restart();
+      const cv::Mat sgbm = eval::SgbmFusedDepth(in.cameras_t, in.images_t, v, near, far);
+      stats["sgbm"].seconds += timer.Seconds();
+      ++stats["sgbm"].runs;
+      add_depth("sgbm", sgbm);
 
       add_flow("zero", cv::Mat::zeros(t.flow.size(), CV_32FC2));
       for (eval::FlowBaseline b : eval::AllFlowBaselines()) {
@@ -300,6 +357,8 @@ int main(int argc, char** argv) try {
         ++s.runs;
         add_flow(eval::ToString(b), flow);
       }
+      if (merged_input)
+        std::printf("merged input, frame %d view %d:%s\n", frame, v, merge_line.c_str());
       std::fflush(stdout);
     }
   }
@@ -320,6 +379,22 @@ int main(int argc, char** argv) try {
     if (!s.has_seg) continue;
     std::printf("| %s | %.3f | %d | %d | %d |\n", m.c_str(), s.seg.MeanInstanceIoU(), s.seg.merged,
                 s.seg.missed, s.seg.false_positives);
+  }
+  if (args.force_merge) {
+    std::printf(
+        "\nMerged input (view-frames whose detector masks merge >= 2 GT people; initial = after "
+        "AssignInstancesToPeople; split = every GT person matched by its own instance with IoU "
+        ">= %.2f)\n",
+        seg_options.match_iou);
+    std::printf("| method | view-frames | split | mean instance IoU | merged GT |\n");
+    std::printf("|---|---|---|---|---|\n");
+    for (const std::string& m : order) {
+      const auto it = merge_stats.find(m);
+      if (it == merge_stats.end()) continue;
+      const MergeStats& ms = it->second;
+      std::printf("| %s | %d | %d | %.3f | %d |\n", m.c_str(), ms.view_frames, ms.split,
+                  ms.seg.MeanInstanceIoU(), ms.seg.merged);
+    }
   }
   std::printf("\nDepth (GT person pixels)\n");
   std::printf("| method | within 1%% | within 5%% | AbsRel | completeness |\n");

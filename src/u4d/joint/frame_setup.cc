@@ -1,6 +1,7 @@
 #include "u4d/joint/frame_setup.h"
 
 #include <algorithm>
+#include <limits>
 #include <map>
 
 #include <opencv2/imgproc.hpp>
@@ -35,31 +36,78 @@ cv::Mat AssignInstancesToPeople(const Camera& camera, const cv::Mat& mask_ids,
   U4D_CHECK(mask_ids.type() == CV_16UC1 && mask_ids.cols == camera.width &&
                 mask_ids.rows == camera.height,
             "AssignInstancesToPeople: mask must be CV_16U {}x{}", camera.width, camera.height);
-  // votes[instance][person] = joints of the person inside the instance.
-  std::map<int, std::map<int, int>> votes;
+  // The people's capsules (pose_prior.h, z-buffered: a person in front claims
+  // the pixels it covers), for the visibility of joints and for splitting.
+  PosePriorMap capsules;
+  if (options.split_merged && poses.size() >= 2) {
+    std::vector<PersonPose> people;
+    for (const Pose3d& pose : poses) {
+      U4D_CHECK(pose.person_id >= 1, "AssignInstancesToPeople: person ids must be >= 1");
+      PersonPose person;
+      person.object_id = pose.person_id;
+      person.at_t = pose;
+      people.push_back(person);
+    }
+    capsules = RenderPosePrior(camera, camera, cv::Mat::zeros(mask_ids.size(), CV_8UC3), people,
+                               options.pose);
+  }
+  // votes[instance][person] = joints of the person inside the instance;
+  // visible[instance][person] = those not hidden by another person's capsules.
+  std::map<int, std::map<int, int>> votes, visible;
   for (const Pose3d& pose : poses) {
     U4D_CHECK(pose.person_id >= 1, "AssignInstancesToPeople: person ids must be >= 1");
     for (const Eigen::Vector4d& j : pose.joints) {
       if (j.w() < options.min_joint_confidence) continue;
       const Eigen::Vector2d x = camera.Project(j.head<3>());
       if (!x.allFinite() || !camera.InImage(x)) continue;
-      const int id = mask_ids.at<uint16_t>(static_cast<int>(std::lround(x.y())),
-                                           static_cast<int>(std::lround(x.x())));
-      if (id > 0) ++votes[id][pose.person_id];
+      const int px = static_cast<int>(std::lround(x.x())),
+                py = static_cast<int>(std::lround(x.y()));
+      const int id = mask_ids.at<uint16_t>(py, px);
+      if (id == 0) continue;
+      ++votes[id][pose.person_id];
+      if (!capsules.object.empty() && capsules.object.at<uint16_t>(py, px) == pose.person_id)
+        ++visible[id][pose.person_id];
     }
   }
   std::map<int, int> object_of;
+  std::map<int, std::vector<int>> merged_people;  // instance -> the people it merges
   for (const auto& [instance, people] : votes) {
     const auto best =
         std::max_element(people.begin(), people.end(),
                          [](const auto& a, const auto& b) { return a.second < b.second; });
     if (best->second >= options.min_joints_inside) object_of[instance] = best->first;
+    std::vector<int> merged;
+    for (const auto& [person, n] : visible[instance])
+      if (n >= options.min_joints_inside) merged.push_back(person);
+    if (merged.size() >= 2) merged_people[instance] = merged;
   }
   cv::Mat labels = cv::Mat::zeros(mask_ids.size(), CV_16U);
   for (int y = 0; y < labels.rows; ++y)
     for (int x = 0; x < labels.cols; ++x) {
       const auto it = object_of.find(mask_ids.at<uint16_t>(y, x));
       if (it != object_of.end()) labels.at<uint16_t>(y, x) = static_cast<uint16_t>(it->second);
+    }
+  if (merged_people.empty()) return labels;
+  // A merged instance: each pixel goes to the person whose (visible) capsules
+  // cover it, or else to the person whose capsules are nearest in the image.
+  std::map<int, cv::Mat> distance;  // person -> pixel distance to its capsules
+  for (const auto& [instance, people] : merged_people)
+    for (int person : people)
+      if (!distance.count(person)) {
+        const cv::Mat outside = capsules.object != person;  // 255 outside its capsules
+        cv::distanceTransform(outside, distance[person], cv::DIST_L2, cv::DIST_MASK_PRECISE);
+      }
+  for (int y = 0; y < labels.rows; ++y)
+    for (int x = 0; x < labels.cols; ++x) {
+      const auto it = merged_people.find(mask_ids.at<uint16_t>(y, x));
+      if (it == merged_people.end()) continue;
+      int best = it->second.front();
+      float best_d = std::numeric_limits<float>::infinity();
+      for (int person : it->second) {
+        const float d = distance[person].at<float>(y, x);
+        if (d < best_d) best_d = d, best = person;
+      }
+      labels.at<uint16_t>(y, x) = static_cast<uint16_t>(best);
     }
   return labels;
 }
@@ -123,12 +171,13 @@ std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
     people.push_back(person);
   }
 
+  // `poses`: those of the masks' frame (t's for t−1, which has none).
   auto labels_at = [&](const std::vector<cv::Mat>& masks, const std::vector<Camera>& full_cams,
-                       int v, const Camera& working) -> cv::Mat {
+                       int v, const Camera& working, const std::vector<Pose3d>& poses) -> cv::Mat {
     if (v >= static_cast<int>(masks.size()) || masks[v].empty()) return {};
-    const cv::Mat ids = data.masks_are_object_ids ? masks[v]
-                                                  : AssignInstancesToPeople(full_cams[v], masks[v],
-                                                                            data.poses_t, options);
+    const cv::Mat ids = data.masks_are_object_ids
+                            ? masks[v]
+                            : AssignInstancesToPeople(full_cams[v], masks[v], poses, options);
     return Resize(ids, working, cv::INTER_NEAREST);
   };
 
@@ -143,16 +192,17 @@ std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
     in.num_labels = num_labels;
     in.people = people;
     const Camera& cam = cams_t[v];
-    in.initial_labels = labels_at(data.masks_t, data.cameras_t, v, cam);
+    in.initial_labels = labels_at(data.masks_t, data.cameras_t, v, cam, data.poses_t);
     if (in.initial_labels.empty())
       in.initial_labels = cv::Mat::zeros(cam.height, cam.width, CV_16U);
     in.appearance_training.push_back({images_t[v], in.initial_labels});
     if (!images_prev[v].empty()) {
-      const cv::Mat prev = labels_at(data.masks_prev, data.cameras_t, v, cam);
+      const cv::Mat prev = labels_at(data.masks_prev, data.cameras_t, v, cam, data.poses_t);
       if (!prev.empty()) in.appearance_training.push_back({images_prev[v], prev});
     }
     if (has_next) {
-      const cv::Mat next = labels_at(data.masks_t1, data.cameras_t1, v, cams_t1[v]);
+      const cv::Mat next = labels_at(data.masks_t1, data.cameras_t1, v, cams_t1[v],
+                                     data.poses_t1.empty() ? data.poses_t : data.poses_t1);
       if (!next.empty()) in.appearance_training.push_back({images_t1[v], next});
     }
     if (v < static_cast<int>(data.sparse.size()))

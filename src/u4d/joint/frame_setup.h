@@ -52,12 +52,28 @@ struct FrameSetupOptions {
   int working_width = 480;       // the optimisation runs at this width (never upscaled)
   double depth_margin_m = 0.35;  // depth range: joints' z range widened by this
   int min_joints_inside = 3;     // joints needed inside an instance to assign it to a person
+  // Split a detector instance that merges touching people (>= min_joints_inside
+  // visible joints of each inside) among them by their capsules (see
+  // AssignInstancesToPeople); false: the instance goes whole to one person.
+  bool split_merged = true;
   double min_joint_confidence = 0.1;
-  PosePriorOptions pose;  // capsule model used for the regions
+  PosePriorOptions pose;  // capsule model used for the regions and the split
   void Check() const;
 };
 
 // Detector ids -> object ids by the projected joints (see above). CV_16U.
+// Merged instances (split_merged): a detector often reports touching people
+// (a handshake) as one instance, and giving it whole to one person leaves the
+// other with no initial mask, so neither E_sem nor the appearance GMM (both
+// learned from the initial labels) supports it. An instance holding at least
+// `min_joints_inside` *visible* joints of two or more people is split among
+// them: the people's capsules (pose_prior.h with `pose`) are drawn with a
+// z-buffer, a joint counts as visible when its own person's capsules claim its
+// pixel (so the joints of a person hidden behind another's instance do not
+// split that instance), and each pixel of the instance goes to the person
+// whose capsules cover it, else to the one whose capsules are nearest in the
+// image. The split is the pose's guess of the boundary; the joint optimisation
+// refines it (E_sem's softness, E_a, E_c, E_p).
 cv::Mat AssignInstancesToPeople(const Camera& camera, const cv::Mat& mask_ids,
                                 const std::vector<Pose3d>& poses, const FrameSetupOptions& options);
 

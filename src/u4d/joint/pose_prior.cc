@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
+#include <utility>
 
 #include <Eigen/Geometry>
 
@@ -10,23 +12,30 @@
 namespace u4d {
 namespace {
 
-double BoneRadius(int a, int b, const PosePriorOptions& o) {
+// The capsule radius at the parent joint a and at the child joint b.
+std::pair<double, double> BoneRadii(int a, int b, const PosePriorOptions& o) {
   using namespace h36m17;
   const auto is = [&](int x, int y) { return (a == x && b == y) || (a == y && b == x); };
-  if (is(kNeck, kHead)) return o.head_radius_m;
-  if (is(kPelvis, kSpine) || is(kSpine, kThorax) || is(kThorax, kNeck) || is(kPelvis, kLeftHip) ||
-      is(kPelvis, kRightHip) || is(kThorax, kLeftShoulder) || is(kThorax, kRightShoulder))
-    return o.torso_radius_m;
-  return o.limb_radius_m;
+  if (is(kNeck, kHead)) return {o.head_radius_m, o.head_radius_m};
+  if (is(kPelvis, kSpine) || is(kSpine, kThorax)) return {o.torso_radius_m, o.torso_radius_m};
+  if (is(kPelvis, kLeftHip) || is(kPelvis, kRightHip) || is(kThorax, kLeftShoulder) ||
+      is(kThorax, kRightShoulder) || is(kThorax, kNeck))
+    return {o.torso_radius_m, o.taper_torso_ends ? o.limb_radius_m : o.torso_radius_m};
+  return {o.limb_radius_m, o.limb_radius_m};
+}
+
+// The parameter in [0, 1] of the point of the segment [a, b] nearest to x.
+template <typename V>
+double SegmentParameter(const V& x, const V& a, const V& b) {
+  const V ab = b - a;
+  const double len2 = ab.squaredNorm();
+  return len2 > 0 ? std::clamp((x - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
 }
 
 // Distance from point x to the segment [a, b].
 template <typename V>
 double SegmentDistance(const V& x, const V& a, const V& b) {
-  const V ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double s = len2 > 0 ? std::clamp((x - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (a + s * ab - x).norm();
+  return (a + SegmentParameter(x, a, b) * (b - a) - x).norm();
 }
 
 }  // namespace
@@ -74,11 +83,22 @@ PosePriorMap RenderPosePrior(const Camera& camera_t, const Camera& camera_t1, co
       bone.a1 = bone.a;
       bone.b1 = bone.b;
       bone.rotation.setIdentity();
-      bone.radius = BoneRadius(ja, jb, options);
+      std::tie(bone.radius_a, bone.radius_b) = BoneRadii(ja, jb, options);
+      bone.radius = std::max(bone.radius_a, bone.radius_b);
+      // The head joint is the crown: the head capsule's end cap stops there
+      // instead of one radius above it.
+      const bool crown = options.head_joint_on_crown && jb == h36m17::kHead;
+      const auto inset = [&](const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
+        const double len = (to - from).norm();
+        return len > 0 ? Eigen::Vector3d(to - (to - from) * std::min(bone.radius_b / len, 1.0))
+                       : to;
+      };
+      if (crown) bone.b = inset(bone.a, bone.b), bone.b1 = bone.b;
       if (person.has_t1 && person.at_t1.joints[ja].w() >= options.min_confidence &&
           person.at_t1.joints[jb].w() >= options.min_confidence) {
         bone.a1 = person.at_t1.joints[ja].head<3>();
         bone.b1 = person.at_t1.joints[jb].head<3>();
+        if (crown) bone.b1 = inset(bone.a1, bone.b1);
         bone.rotation = Eigen::Quaterniond::FromTwoVectors(bone.b - bone.a, bone.b1 - bone.a1)
                             .toRotationMatrix();
         bone.has_motion = true;
@@ -92,7 +112,8 @@ PosePriorMap RenderPosePrior(const Camera& camera_t, const Camera& camera_t1, co
         if (!(z > 0)) continue;
         const Eigen::Vector2d c = camera_t.Project(x);
         if (!c.allFinite()) continue;
-        const double radius_px = camera_t.K(0, 0) * bone.radius / z;
+        const double radius_m = bone.radius_a + u * (bone.radius_b - bone.radius_a);
+        const double radius_px = camera_t.K(0, 0) * radius_m / z;
         Eigen::Vector2f delta(0, 0);
         bool moving = false;
         if (bone.has_motion) {
@@ -114,9 +135,16 @@ PosePriorMap RenderPosePrior(const Camera& camera_t, const Camera& camera_t1, co
         for (int y = std::max(0, cy - r); y <= std::min(h - 1, cy + r); ++y)
           for (int xx = std::max(0, cx - r); xx <= std::min(w - 1, cx + r); ++xx) {
             const Eigen::Vector2d px(xx, y);
-            if ((px - c).norm() > radius_px) continue;
-            if (z >= zbuf.at<float>(y, xx)) continue;
-            zbuf.at<float>(y, xx) = static_cast<float>(z);
+            const double off_px = (px - c).norm();
+            if (off_px > radius_px) continue;
+            // Depth of the disc's sphere surface facing the camera at this
+            // pixel (not of its centre): a thick torso in front of a thin limb
+            // must win even where the limb's axis is nearer than the torso's.
+            const double off_m = off_px / radius_px * radius_m;
+            const double z_surface =
+                z - std::sqrt(std::max(0.0, radius_m * radius_m - off_m * off_m));
+            if (z_surface >= zbuf.at<float>(y, xx)) continue;
+            zbuf.at<float>(y, xx) = static_cast<float>(z_surface);
             const double dist =
                 (pa.allFinite() && pb.allFinite()) ? SegmentDistance(px, pa, pb) : (px - c).norm();
             const double rr = dist / std::max(radius_px, 1.0) / options.core_fraction;
@@ -175,8 +203,9 @@ double Pose3dCost(const PosePriorMap& map, int p, const Eigen::Vector3d& point_i
   if (bi < 0) return 0;
   const PriorBone& bone = map.bones[bi];
   const double w = map.weight.ptr<float>()[p];
-  const double outside =
-      std::max(0.0, SegmentDistance(point_in_world, bone.a, bone.b) - bone.radius);
+  const double u = SegmentParameter(point_in_world, bone.a, bone.b);
+  const double outside = std::max(0.0, (bone.a + u * (bone.b - bone.a) - point_in_world).norm() -
+                                           (bone.radius_a + u * (bone.radius_b - bone.radius_a)));
   const double ss = options.sigma_shape_m;
   double cost = 1.0 - std::exp(-outside * outside / (2 * ss * ss));
   if (bone.has_motion) {

@@ -6,7 +6,9 @@
 // The paper places a circle C_i around each projected joint and a sphere S_i
 // around each 3D joint. Here the circles and spheres along a bone are swept
 // into capsules: every bone of every person is sampled, each sample drawn as a
-// disc of the capsule radius at its depth, with a z-buffer so that a person
+// disc of the capsule radius at its depth, with a z-buffer (on the depth of
+// the sample sphere's visible surface at the pixel, so a thick torso in front
+// of a thin limb wins even where the limb's axis is nearer) so that a person
 // in front claims the pixels it covers (a joint hidden behind another person
 // constrains nothing there). The result, per view and frame, is a PosePriorMap:
 // for each covered pixel the person, the bone, a spatial weight w(p) =
@@ -15,11 +17,17 @@
 // colour similarity to the axis (e_2d^L, σ_L the mean over covered pixels as
 // the paper's ⟨·⟩), and the 2D displacement of the axis point from t to t+1.
 //
+// Capsules taper linearly between per-joint radii (hip, shoulder and neck bones:
+// torso radius at the pelvis / thorax, limb radius at the joint; taper_torso_ends), and
+// the head capsule ends one radius below the head joint, which is the crown
+// (head_joint_on_crown): a capsule's end cap must not reach past the body.
+//
 // Sub-terms, each in [0, 1] at a pixel covered by person k:
 //   e_2d^S(l)    = w(p) [l ≠ k]                        label near the projected pose
 //   e_2d^L(l)    = w(p) c(p) [l ≠ k]                   ... when the colour matches the axis
 //   e_2d^M(m)    = w(p) (1 − exp(−||m − δ(p)||² / 2σ_m²))      δ: the axis point's 2D motion
-//   e_3d^S(d)    = w(p) (1 − exp(−max(0, dist(Φ(p), bone) − R)² / 2σ_s²))
+//   e_3d^S(d)    = w(p) (1 − exp(−max(0, dist(Φ(p), bone) − R)² / 2σ_s²))   R at the nearest
+//                                                                          axis point
 //   e_3d^M(d, m) = w(p) (1 − exp(−||p + m − Π_{t+1}(a' + R_i (Φ(p) − a))||² / 2σ_m²))
 // where Φ(p) is the 3D point at the pixel's depth, a / a' the bone's parent
 // joint at t / t+1 and R_i the bone's rotation from t to t+1 (the minimal
@@ -42,6 +50,17 @@ struct PosePriorOptions {
   double limb_radius_m = 0.06;   // capsule radius of arm and leg bones
   double torso_radius_m = 0.14;  // capsule radius of spine, hip and shoulder bones
   double head_radius_m = 0.10;   // capsule radius of the neck-head bone
+  // The bones that leave the torso (pelvis -> hip, thorax -> shoulder,
+  // thorax -> neck) taper from torso_radius_m at the pelvis / thorax to
+  // limb_radius_m at the hip / shoulder / neck joint, where the body is a
+  // limb's root or the neck (a torso-radius cap around the shoulder joint
+  // reaches ~8 cm above the shoulder, one around the neck joint fills the
+  // gap beside the neck). false: torso radius along the whole bone.
+  bool taper_torso_ends = true;
+  // The H36M-17 head joint is the top of the head (the crown), not its
+  // centre: the neck-head capsule ends one head radius before it, so its cap
+  // stops at the crown. false: the cap reaches a radius beyond the joint.
+  bool head_joint_on_crown = true;
   double core_fraction = 0.5;    // w(p) = exp(−(r / core_fraction)² / 2), r in capsule radii:
                                  // the pose is trusted most near the bone axis
   int samples_per_bone = 12;     // discs drawn along each bone
@@ -62,10 +81,11 @@ struct PersonPose {
 // One bone as the 3D terms need it.
 struct PriorBone {
   int object_id = 0;
-  Eigen::Vector3d a, b;      // parent and child joint at t
-  Eigen::Vector3d a1, b1;    // at t+1 (equal to a, b without a pose at t+1)
-  Eigen::Matrix3d rotation;  // R_i: bone direction at t -> at t+1
-  double radius = 0;         // capsule radius (metres)
+  Eigen::Vector3d a, b;               // parent and child joint at t
+  Eigen::Vector3d a1, b1;             // at t+1 (equal to a, b without a pose at t+1)
+  Eigen::Matrix3d rotation;           // R_i: bone direction at t -> at t+1
+  double radius = 0;                  // the larger of radius_a, radius_b (metres)
+  double radius_a = 0, radius_b = 0;  // capsule radius at a and at b (tapered in between)
   bool has_motion = false;
 };
 
