@@ -12,12 +12,14 @@ Command MakeRunCommand();
 Command MakeSceneFromGtCommand();
 Command MakeViewCommand();
 Command MakeExportViewerCommand();
+Command MakeConsistencyCommand();
 
 const std::vector<Command>& Commands() {
   static const std::vector<Command> commands = {
       MakeInfoCommand(),        MakeEvalCommand(), MakeImportCommand(),
       MakeSynthCommand(),       MakeRunCommand(),  MakeDemoCommand(),
       MakeSceneFromGtCommand(), MakeViewCommand(), MakeExportViewerCommand(),
+      MakeConsistencyCommand(),
   };
   return commands;
 }

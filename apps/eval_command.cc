@@ -1,6 +1,8 @@
 // `u4d eval <capture> [--pred <dir>] [--initial] [-o <eval.json>]`: evaluates
 // a prediction (laid out like <capture>/gt) or the capture's initial masks
 // against the ground truth, prints a table and writes eval.json atomically.
+// When <dir> is a scene written by `u4d run`, the vertex drift of its
+// segments (eval/segment_drift.h) is added.
 #include <memory>
 
 #include <fmt/format.h>
@@ -8,6 +10,8 @@
 
 #include "apps/commands.h"
 #include "u4d/eval/evaluate.h"
+#include "u4d/eval/segment_drift.h"
+#include "u4d/io/layout.h"
 #include "u4d/util/check.h"
 
 namespace u4d::apps {
@@ -49,10 +53,23 @@ Command MakeEvalCommand() {
             eval::EvalOptions options;
             options.keyframe_interval = args->keyframe_interval;
             const eval::EvalReport report = eval::EvaluateCapture(input, options);
+            nlohmann::json j = report.ToJson();
+            // A scene written by `u4d run` also has temporally coherent
+            // segments: their vertex drift against the GT vertex identities.
+            if (!args->initial && fs::exists(input.pred / layout::SceneIndex()) &&
+                fs::is_directory(input.capture / "gt/meshes")) {
+              const eval::DriftReport drift = eval::EvaluateSegmentDrift(input.capture, input.pred);
+              j["vertex_drift"] = drift.ToJson();
+              fmt::print(
+                  "vertex drift at the segments' last frames: {:.1f} mm (a static mesh: {:.1f} "
+                  "mm, {} segments)\n",
+                  drift.last_frame_drift.Mean() * 1e3, drift.last_frame_motion.Mean() * 1e3,
+                  drift.last_frame_drift.count);
+            }
             const fs::path out = !args->output.empty() ? fs::path(args->output)
                                  : args->initial       ? input.capture / "eval_initial.json"
                                                        : input.pred / "eval.json";
-            WriteJsonFileAtomic(out, report.ToJson());
+            WriteJsonFileAtomic(out, j);
             fmt::print("{}wrote {}\n", report.FormatTable(), out.string());
             return 0;
           }};

@@ -72,6 +72,9 @@ Command MakeRunCommand() {
                 ->capture_default_str();
             app.add_option("--config", a->config,
                            "JSON file with \"weights\" overriding the paper's");
+            app.add_option("--pose-smoothing", o.pose_smoothing.window_seconds,
+                           "seconds of the window smoothing poses from 2D over time (0 = off)")
+                ->capture_default_str();
             app.add_flag("!--no-joint-tracks", o.tracks.add_joint_tracks,
                          "do not add the projected 3D joints to the sparse tracks");
             app.add_flag("!--no-resume", o.resume, "recompute everything in the output directory");

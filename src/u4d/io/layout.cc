@@ -48,6 +48,7 @@ fs::path SceneCalibration() { return "calibration.json"; }
 fs::path SceneParams() { return "params.json"; }
 fs::path SceneKeyframes() { return "keyframes.json"; }
 fs::path SceneEval() { return "eval.json"; }
+fs::path SceneConsistency() { return "consistency.json"; }
 fs::path SceneInstances(const std::string& view, int frame) {
   return fs::path("instances") / view / (FrameName(frame) + ".png");
 }

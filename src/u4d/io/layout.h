@@ -36,6 +36,7 @@ fs::path SceneCalibration();  // calibration.json (as in a capture)
 fs::path SceneParams();       // params.json: every option used
 fs::path SceneKeyframes();    // keyframes.json
 fs::path SceneEval();         // eval.json (only with ground truth)
+fs::path SceneConsistency();  // consistency.json (figures that need no ground truth)
 fs::path SceneInstances(const std::string& view, int frame);      // instances/<view>/<frame>.png
 fs::path SceneInstancesInfo(const std::string& view, int frame);  // instances/<view>/<frame>.json
 fs::path SceneDepth(const std::string& view,

@@ -11,6 +11,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "u4d/eval/evaluate.h"
+#include "u4d/eval/scene_consistency.h"
+#include "u4d/eval/segment_drift.h"
 #include "u4d/fusion/labelled_ply.h"
 #include "u4d/io/capture.h"
 #include "u4d/io/frame_reader.h"
@@ -23,6 +25,7 @@
 #include "u4d/pipeline/initial_objects.h"
 #include "u4d/pipeline/scene_outputs.h"
 #include "u4d/pose/given_poses.h"
+#include "u4d/pose/pose_smoothing.h"
 #include "u4d/util/check.h"
 #include "u4d/util/progress.h"
 #include "u4d/util/timer.h"
@@ -107,7 +110,7 @@ std::vector<std::vector<Pose3d>> ComputePoses(Context& c) {
       raw[k] = TriangulatePoses(per_view, c.Cameras(f), c.o.pose);
       progress.Tick();
     }
-    poses = TrackPoses(raw, c.o.pose_tracking);
+    poses = SmoothTrackedPoses(TrackPoses(raw, c.o.pose_tracking), c.cap.fps, c.o.pose_smoothing);
     for (auto& frame : poses)
       for (Pose3d& p : frame) p.person_id += 1;  // track ids start at 0
   }
@@ -570,11 +573,29 @@ RunResult RunPipeline(const fs::path& capture_dir, const fs::path& scene_dir,
     return solved;
   });
 
+  // The index must list the segments before the figures below read it.
+  WriteIndex(c, selection, segments, false);
+  if (options.evaluate) {
+    RunStage(c, "consistency", false, [&] {
+      const eval::ConsistencyReport report = eval::EvaluateSceneConsistency(cap, scene_dir);
+      WriteJsonFileAtomic(scene_dir / layout::SceneConsistency(), report.ToJson());
+      fmt::print("{}", report.FormatTable());
+      return c.NumFrames();
+    });
+  }
   const bool whole = c.f0 == 0 && c.f1 == cap.num_frames;
   if (options.evaluate && fs::is_directory(cap.root / "gt") && whole) {
     RunStage(c, "eval", false, [&] {
       const eval::EvalReport report = eval::EvaluateCapture({cap.root, scene_dir, false});
-      WriteJsonFileAtomic(scene_dir / layout::SceneEval(), report.ToJson());
+      nlohmann::json j = report.ToJson();
+      if (fs::is_directory(cap.root / "gt/meshes")) {
+        const eval::DriftReport drift = eval::EvaluateSegmentDrift(cap.root, scene_dir);
+        j["vertex_drift"] = drift.ToJson();
+        fmt::print(
+            "vertex drift at the segments' last frames: {:.1f} mm (a static mesh: {:.1f} mm)\n",
+            drift.last_frame_drift.Mean() * 1e3, drift.last_frame_motion.Mean() * 1e3);
+      }
+      WriteJsonFileAtomic(scene_dir / layout::SceneEval(), j);
       fmt::print("{}", report.FormatTable());
       return 1;
     });

@@ -61,6 +61,7 @@ void RunOptions::Check() const {
   joint.Check();
   pose.Check();
   pose_tracking.Check();
+  pose_smoothing.Check();
   sparse.Check();
   regions.Check();
   tracks.Check();
@@ -101,6 +102,8 @@ nlohmann::json RunOptions::ToJson() const {
           {"proposals",
            {joint.fusion.refined, joint.fusion.deepflow, joint.fusion.dis, joint.fusion.smoothed}},
           {"rounds", joint.fusion.rounds}}}}},
+      {"pose_smoothing",
+       {{"window_seconds", pose_smoothing.window_seconds}, {"degree", pose_smoothing.degree}}},
       {"tracks",
        {{"window", tracks.window},
         {"ratio", tracks.ratio},

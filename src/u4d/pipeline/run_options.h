@@ -18,6 +18,7 @@
 #include "u4d/joint/joint_view.h"
 #include "u4d/keyframes/keyframe_similarity.h"
 #include "u4d/pose/multiview_pose.h"
+#include "u4d/pose/pose_smoothing.h"
 #include "u4d/pose/pose_tracking.h"
 
 namespace u4d {
@@ -62,6 +63,7 @@ struct RunOptions {
   bool paper_weights = true;      // set joint.weights from the paper's table for the capture
   MultiViewPoseOptions pose;
   PoseTrackerOptions pose_tracking;
+  PoseSmoothingOptions pose_smoothing;  // poses from 2D only: offline smoothing after tracking
   SparseFrameOptions sparse;
   ObjectRegionOptions regions;
   TemporalTrackOptions tracks;
