@@ -126,18 +126,6 @@ Args ParseArgs(int argc, char** argv) {
   return a;
 }
 
-// The truth at the working resolution (nearest neighbour; flow scaled).
-ViewTruth ScaleTruth(const ViewTruth& t, const cv::Size& size, double scale) {
-  if (t.depth.size() == size) return t;
-  ViewTruth s = t;
-  cv::resize(t.instances.ids, s.instances.ids, size, 0, 0, cv::INTER_NEAREST);
-  cv::resize(t.depth, s.depth, size, 0, 0, cv::INTER_NEAREST);
-  cv::resize(t.flow, s.flow, size, 0, 0, cv::INTER_NEAREST);
-  s.flow *= scale;
-  cv::resize(t.flow_valid, s.flow_valid, size, 0, 0, cv::INTER_NEAREST);
-  return s;
-}
-
 // Everything measured for one method.
 struct Stats {
   eval::InstanceSegAccumulator seg;
@@ -255,7 +243,7 @@ int main(int argc, char** argv) try {
       const JointViewInput& in = inputs[v];
       if (in.objects.empty()) continue;
       ++solved_views;
-      const ViewTruth t = ScaleTruth(truth[v], in.initial_labels.size(), scale);
+      const ViewTruth t = ScaleViewTruth(truth[v], in.initial_labels.size(), scale);
       const cv::Mat people = t.instances.ids > 0;
       const std::string ctx = fmt::format("frame {} view {}", frame, v);
       bool merged_input = false;

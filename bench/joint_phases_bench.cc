@@ -58,18 +58,6 @@ Args ParseArgs(int argc, char** argv) {
   return a;
 }
 
-// The truth at the working resolution (nearest neighbour; flow scaled), as joint_bench.
-ViewTruth ScaleTruth(const ViewTruth& t, const cv::Size& size, double scale) {
-  if (t.depth.size() == size) return t;
-  ViewTruth s = t;
-  cv::resize(t.instances.ids, s.instances.ids, size, 0, 0, cv::INTER_NEAREST);
-  cv::resize(t.depth, s.depth, size, 0, 0, cv::INTER_NEAREST);
-  cv::resize(t.flow, s.flow, size, 0, 0, cv::INTER_NEAREST);
-  s.flow *= scale;
-  cv::resize(t.flow_valid, s.flow_valid, size, 0, 0, cv::INTER_NEAREST);
-  return s;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) try {
@@ -124,7 +112,7 @@ int main(int argc, char** argv) try {
         total_seconds += r.seconds;
         ++solves;
       }
-      const ViewTruth t = ScaleTruth(truth[v], in.initial_labels.size(), scale);
+      const ViewTruth t = ScaleViewTruth(truth[v], in.initial_labels.size(), scale);
       const std::string ctx = fmt::format("frame {} view {}", frame, v);
       const eval::InstanceSegResult s =
           eval::EvaluateInstances(PersonInstances(r.labels), t.instances, seg_options, ctx);

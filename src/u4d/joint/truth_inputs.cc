@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <random>
 
+#include <opencv2/imgproc.hpp>
+
 #include "u4d/io/image_io.h"
 #include "u4d/io/layout.h"
 
@@ -17,6 +19,17 @@ ViewTruth ReadViewTruth(const Capture& capture, int view, int frame) {
   t.flow = ReadFlo(capture.root / layout::GtFlow(name, frame));
   t.flow_valid = ReadMaskImage(capture.root / layout::GtFlowValid(name, frame));
   return t;
+}
+
+ViewTruth ScaleViewTruth(const ViewTruth& t, const cv::Size& size, double scale) {
+  if (t.depth.size() == size) return t;
+  ViewTruth s = t;
+  cv::resize(t.instances.ids, s.instances.ids, size, 0, 0, cv::INTER_NEAREST);
+  cv::resize(t.depth, s.depth, size, 0, 0, cv::INTER_NEAREST);
+  cv::resize(t.flow, s.flow, size, 0, 0, cv::INTER_NEAREST);
+  s.flow *= scale;
+  cv::resize(t.flow_valid, s.flow_valid, size, 0, 0, cv::INTER_NEAREST);
+  return s;
 }
 
 InstanceMask PersonInstances(const cv::Mat& ids) {

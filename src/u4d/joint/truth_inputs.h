@@ -21,6 +21,12 @@ struct ViewTruth {
 };
 ViewTruth ReadViewTruth(const Capture& capture, int view, int frame);
 
+// The truth at another resolution (a working resolution): ids, depth and
+// validity by nearest neighbour, the flow resampled the same way and
+// multiplied by `scale` (new size / camera size). Unchanged when `size` is
+// already the truth's size.
+ViewTruth ScaleViewTruth(const ViewTruth& truth, const cv::Size& size, double scale);
+
 // An id image (CV_16U) as an InstanceMask whose instances are all "person".
 InstanceMask PersonInstances(const cv::Mat& ids);
 
