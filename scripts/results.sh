@@ -7,7 +7,7 @@
 #
 #   scripts/results.sh [--quick] [--only a,b,...] [--out FILE] [--no-build]
 #                      [--speed-views "4 8"] [--speed-sizes "480x270 960x540"]
-#                      [--speed-frames N] [--keep]
+#                      [--speed-frames N] [--length-frames "30 100 300"] [--keep]
 #
 # Run from anywhere; works in the repository root. The build directory is
 # $BUILD (default `build`), configured as Release if it does not exist.
@@ -17,12 +17,17 @@
 #   --only LIST     run only these sections (comma separated ids: seg, depth,
 #                   flow, fusion, pose, sparse, tracks, keyframes, mrf, synth,
 #                   speed; seg/depth/flow share one joint_bench run).
+#                   Real-data sections: middlebury, sintel.
+#                   Kernel throughput and the joint solve's phases: kernels.
 #   --out FILE      write FILE (relative to the repository root) instead of
 #                   docs/results.md.
 #   --no-build      do not run cmake/ninja (the binaries must exist).
 #   --speed-views, --speed-sizes, --speed-frames
 #                   the `u4d run` speed section: one synthetic handshake per
 #                   (views, size), each run through the whole pipeline.
+#   --length-frames  the sequence-length section: `u4d run` on 4 views at
+#                   160x90 for each of these frame counts (time per frame and
+#                   peak memory must stay flat); section id: length.
 #   --keep          keep the work folder (raw outputs, captures, scenes).
 #   --reuse DIR     assemble from a kept work folder: steps whose output is
 #                   there are not run again (for editing this script).
@@ -40,6 +45,7 @@ FAILED=()
 SPEED_VIEWS=""
 SPEED_SIZES=""
 SPEED_FRAMES=""
+LENGTH_FRAMES=""
 
 usage() { sed -n '2,28p' "$0" | sed 's/^# \{0,1\}//'; }
 while [[ $# -gt 0 ]]; do
@@ -53,6 +59,7 @@ while [[ $# -gt 0 ]]; do
     --speed-views) SPEED_VIEWS=$2; shift ;;
     --speed-sizes) SPEED_SIZES=$2; shift ;;
     --speed-frames) SPEED_FRAMES=$2; shift ;;
+    --length-frames) LENGTH_FRAMES=$2; shift ;;
     -h|--help) usage; exit 0 ;;
     *) echo "results.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
@@ -68,14 +75,19 @@ if [[ $MODE == quick ]]; then
   KEYFRAMES_ARGS=(32 8 4)
   DEPTH_ARGS=(1)
   MRF_ARGS=(--benchmark_min_time=0.01)
+  KERNELS_ARGS=(--benchmark_min_time=0.01)
+  PHASES_ARGS=(--views 4 --width 320 --height 180 --working-width 320 --frames 3 --max-views 2)
   RENDER_ARGS=(--benchmark_min_time=0.01)
   : "${SPEED_VIEWS:=4}" "${SPEED_SIZES:=320x180}" "${SPEED_FRAMES:=3}"
+  : "${LENGTH_FRAMES:=10 30}"
 else
   JOINT_ARGS=(--frames 3 --max-views 4)
   SPARSE_ARGS=(10 2.0)
   KEYFRAMES_ARGS=(64 8 4)
   DEPTH_ARGS=(1)
   MRF_ARGS=()
+  KERNELS_ARGS=()
+  PHASES_ARGS=(--max-views 1)
   RENDER_ARGS=()
   : "${SPEED_VIEWS:=4 8}" "${SPEED_SIZES:=480x270}" "${SPEED_FRAMES:=4}"
 fi
@@ -95,6 +107,8 @@ SCRIPT_T0=$(date +%s)
 # ---- build -------------------------------------------------------------------
 BENCHES=(sparse_bench tracks_bench shelf_pose_bench keyframes_bench depth_cost_bench
   flow_cost_bench joint_bench fusion_bench mrf_bench synth_bench synth_render_bench u4d)
+BENCHES+=(middlebury_bench sintel_bench)
+BENCHES+=(kernels_bench joint_phases_bench)
 if [[ $DO_BUILD == 1 ]]; then
   if [[ ! -f $BUILD/build.ninja ]]; then
     cmake -S . -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null || exit 1
@@ -203,12 +217,16 @@ B=$BUILD/bench
 want seg || want depth || want flow && run_step joint "$B/joint_bench" "${JOINT_ARGS[@]}"
 want depth && run_step depth_cost "$B/depth_cost_bench" "${DEPTH_ARGS[@]}"
 want flow && run_step flow_cost "$B/flow_cost_bench"
+want middlebury && run_step middlebury "$B/middlebury_bench"
+want sintel && run_step sintel "$B/sintel_bench"
 want fusion && run_step fusion "$B/fusion_bench"
 want pose && run_step shelf "$B/shelf_pose_bench"
 want sparse && run_step sparse "$B/sparse_bench" "${SPARSE_ARGS[@]}"
 want tracks && run_step tracks "$B/tracks_bench"
 want keyframes && run_step keyframes "$B/keyframes_bench" "${KEYFRAMES_ARGS[@]}"
 want mrf && run_step mrf "$B/mrf_bench" "${MRF_ARGS[@]}"
+want kernels && run_step kernels "$B/kernels_bench" "${KERNELS_ARGS[@]}"
+want kernels && run_step joint_phases "$B/joint_phases_bench" "${PHASES_ARGS[@]}"
 if want synth; then
   run_step synth_render "$B/synth_render_bench" "${RENDER_ARGS[@]}"
   run_step synth "$B/synth_bench"
@@ -226,10 +244,29 @@ if want speed; then
       run_step "$id" "$BUILD/apps/u4d" run "$cap" -o "$cap/scene" --no-progress
       cp "$cap/scene/run.json" "$WORK/$id.run.json" 2>/dev/null
       cp "$cap/scene/eval.json" "$WORK/$id.eval.json" 2>/dev/null
+      cp "$cap/scene/consistency.json" "$WORK/$id.consistency.json" 2>/dev/null
       rm -rf "$cap"
       SPEED_IDS+=("$id")
     done
   done
+fi
+: "${LENGTH_FRAMES:=30 100 300}"
+LENGTH_IDS=()
+if want length; then
+  max_frames=0
+  for n in $LENGTH_FRAMES; do ((n > max_frames)) && max_frames=$n; done
+  cap="$WORK/length_capture"
+  run_step length_synth "$BUILD/apps/u4d" synth --preset handshake --frames "$max_frames" \
+    --views 4 --width 160 --height 90 --no-meshes -o "$cap"
+  for n in $LENGTH_FRAMES; do
+    id="length_$n"
+    run_step "$id" "$BUILD/apps/u4d" run "$cap" -o "$WORK/$id.scene" --frames "$n" \
+      --working-width 160 --rounds 1 --no-eval --no-progress
+    cp "$WORK/$id.scene/run.json" "$WORK/$id.run.json" 2>/dev/null
+    rm -rf "$WORK/$id.scene"
+    LENGTH_IDS+=("$id")
+  done
+  rm -rf "$cap"
 fi
 SCRIPT_WALL=$(($(date +%s) - SCRIPT_T0))
 
@@ -297,6 +334,17 @@ EOF
       "DIS $(md_cell joint Flow dis 2), DeepFlow $(md_cell joint Flow deepflow 2), Farneback $(md_cell joint Flow farneback 2) |" \
       "full $(md_cell joint Flow full 2) | Flow |"
   fi
+  if [[ -f $WORK/middlebury.meta ]]; then
+    echo "| Middlebury, depth term alone: mean bad-pixel rate > 1 px (4 pairs) |" \
+      "SGBM $(md_cell middlebury "Mean over" sgbm 2), BM $(md_cell middlebury "Mean over" bm 2) |" \
+      "E_d WTA $(md_cell middlebury "Mean over" ours-wta 2), E_d + E_s $(md_cell middlebury "Mean over" ours-mrf 2) | Middlebury |"
+  fi
+  if [[ -f $WORK/sintel.meta ]]; then
+    echo "| Sintel flow EPE all / noc, px (3 cases; ours = single-view fusion) |" \
+      "DeepFlow $(md_cell sintel "All cases" deepflow 2) / $(md_cell sintel "All cases" deepflow 3), DIS $(md_cell sintel "All cases" dis 2) / $(md_cell sintel "All cases" dis 3) |" \
+      "from zero $(md_cell sintel "All cases" ours-fusion 2) / $(md_cell sintel "All cases" ours-fusion 3)," \
+      "from DeepFlow $(md_cell sintel "All cases" ours-fusion-df 2) / $(md_cell sintel "All cases" ours-fusion-df 3) | Sintel |"
+  fi
   if [[ -f $WORK/fusion.meta ]]; then
     echo "| mesh fused from GT depth, Chamfer mm (8x480x270, persons 1 / 2) | | $(grep '^8x480x270 person' "$WORK/fusion.out" |
       sed -n 's/.*chamfer \([0-9.]*\) mm.*/\1/p' | paste -sd/ -) | Meshes |"
@@ -348,6 +396,10 @@ The paper reports the projection error of the fused surface against PRSM,
 LocalStereo, SMVS and SCSR. Here: per-view depth on the GT person pixels
 against the GT depth, the winner-take-all plane sweep on the same cost volume
 (the baseline) vs the joint optimisation and its ablations (`joint_bench`).
+The `sgbm` row is OpenCV SGBM on rectified pairs with the 2 nearest views
+(at most 60 degrees apart), median-fused (eval/stereo_baseline.h); on a 4-view
+ring the neighbours are 90 degrees apart, so it has no pair and reports
+nothing (docs/depth.md has it on 8 views).
 
 EOF
     joint_section "Depth"
@@ -395,6 +447,36 @@ EOF
       raw flow_cost
       provenance flow_cost
     fi
+  fi
+
+  if want middlebury; then
+    cat <<'EOF'
+## Depth term alone on Middlebury stereo (real data)
+
+`middlebury_bench` (docs/depth.md): our depth data term E_d (ZNCC plane
+sweep, one label per integer disparity) on the Middlebury pairs taken
+winner-take-all and with α-expansion of E_d + E_s alone (the joint energy's
+depth block), against OpenCV StereoSGBM and StereoBM on the same pairs:
+bad-pixel rate (|d - d_gt| > 1 px, unknown = bad) on the non-occluded GT
+pixels, density, mean absolute disparity error.
+
+EOF
+    if [[ -f $WORK/middlebury.meta ]]; then raw middlebury; provenance middlebury; fi
+  fi
+
+  if want sintel; then
+    cat <<'EOF'
+## Flow on MPI Sintel (real-data flow benchmark)
+
+`sintel_bench` (docs/flow.md): EPE (all valid pixels, non-occluded) of
+OpenCV DeepFlow, DIS and Farneback and of the joint method's flow fusion
+stage run on a single view (E_f's temporal term + E_r; Sintel is monocular,
+so no cross-view or sparse term, labels, depth or pose), started from the
+zero field and from DeepFlow, on three cases (clean/easy, clean/medium,
+final/hard), with wall times relative to DeepFlow.
+
+EOF
+    if [[ -f $WORK/sintel.meta ]]; then raw sintel; provenance sintel; fi
   fi
 
   if want fusion; then
@@ -474,6 +556,22 @@ EOF
     if [[ -f $WORK/mrf.meta ]]; then raw mrf; provenance mrf; fi
   fi
 
+  if want kernels; then
+    cat <<'EOF'
+## Hot kernels and the phases of one joint view solve
+
+`kernels_bench` (docs/joint.md, "Speed"): throughput of the depth and flow
+cost volumes, max-flow, one alpha-expansion sweep, one fusion move, the
+colour-GMM fit (against cv::ml::EM, the implementation it replaced, in the
+same run) and Poisson reconstruction, at 480x270 and 960x540.
+`joint_phases_bench`: wall and CPU time per phase of the full joint solve
+(JointViewResult::phases) and its accuracy.
+
+EOF
+    if [[ -f $WORK/kernels.meta ]]; then raw kernels; provenance kernels; fi
+    if [[ -f $WORK/joint_phases.meta ]]; then raw joint_phases; provenance joint_phases; fi
+  fi
+
   if want synth; then
     cat <<'EOF'
 ## Synthetic capture generator
@@ -517,16 +615,32 @@ EOF
       echo "S_e and the projection error are the paper's temporal-coherence and"
       echo "reconstruction metrics, docs/metrics.md):"
       echo
-      echo "| capture | mean instance IoU | depth (people) within 5 % | flow (people) EPE px | S_e | projection error | mesh Chamfer mm |"
-      echo "|---|---|---|---|---|---|---|"
+      echo "| capture | mean instance IoU | depth (people) within 5 % | flow (people) EPE px | S_e | projection error | mesh Chamfer mm | vertex drift mm (still mesh) |"
+      echo "|---|---|---|---|---|---|---|---|"
       for id in "${SPEED_IDS[@]}"; do
         cfg=${id#speed_}
         if [[ -f $WORK/$id.eval.json ]]; then
           jq -r --arg c "$cfg" 'def r3: if . == null then "" else (. * 1000 | round / 1000 | tostring) end;
-            "| \($c) | \(.instances.mean_instance_iou | r3) | \(.depth_people.delta_5pct | r3) | \(.flow_people.epe_px | r3) | \(.silhouette_overlap_error.value | r3) | \(.projection_error.value | r3) | \(if .meshes.chamfer_m == null then "" else (.meshes.chamfer_m * 1000 | . * 10 | round / 10 | tostring) end) |"' \
+            "| \($c) | \(.instances.mean_instance_iou | r3) | \(.depth_people.delta_5pct | r3) | \(.flow_people.epe_px | r3) | \(.silhouette_overlap_error.value | r3) | \(.projection_error.value | r3) | \(if .meshes.chamfer_m == null then "" else (.meshes.chamfer_m * 1000 | . * 10 | round / 10 | tostring) end) | \(if .vertex_drift.last_frame_drift_m == null then "" else "\(.vertex_drift.last_frame_drift_m * 10000 | round / 10) (\(.vertex_drift.last_frame_motion_m * 10000 | round / 10))" end) |"' \
             "$WORK/$id.eval.json"
         else
-          echo "| $cfg | (no eval.json) | | | | | |"
+          echo "| $cfg | (no eval.json) | | | | | | |"
+        fi
+      done
+      echo
+      echo "Figures that need no ground truth, from the same runs (\`consistency.json\`,"
+      echo "docs/metrics.md; docs/pipeline.md reports them for the real captures):"
+      echo
+      echo "| capture | S_e of our masks by our flow | cross-view depth agreement | cross-view label agreement | projection error vs our masks |"
+      echo "|---|---|---|---|---|"
+      for id in "${SPEED_IDS[@]}"; do
+        cfg=${id#speed_}
+        if [[ -f $WORK/$id.consistency.json ]]; then
+          jq -r --arg c "$cfg" 'def r3: if . == null then "" else (. * 1000 | round / 1000 | tostring) end;
+            "| \($c) | \(.silhouette_overlap_error.own_flow | r3) | \(.cross_view.depth_agreement | r3) | \(.cross_view.label_agreement | r3) | \(.projection_error.value | r3) |"' \
+            "$WORK/$id.consistency.json"
+        else
+          echo "| $cfg | (no consistency.json) | | | |"
         fi
       done
       echo
@@ -542,6 +656,33 @@ EOF
     fi
   fi
 
+  if want length && [[ ${#LENGTH_IDS[@]} -gt 0 ]]; then
+    cat <<'EOF'
+## Sequence length (memory must stay flat)
+
+`u4d run` works segment by segment and links tracks in chunks of 40 frames,
+so its peak memory must not grow with the number of frames. One synthetic
+handshake (4 views at 160x90, `--working-width 160 --rounds 1 --no-eval`),
+run on its first N frames:
+
+| frames | segments s | s per frame | all stages s | peak memory MB (max over stages) |
+|---|---|---|---|---|
+EOF
+    for id in "${LENGTH_IDS[@]}"; do
+      n=${id#length_}
+      if [[ -f $WORK/$id.run.json ]]; then
+        jq -r --arg n "$n" '([.stages[] | select(.name == "segments") | .seconds] | add) as $seg |
+          "| \($n) | \($seg | round) | \($seg / ($n | tonumber) * 100 | round / 100) | \([.stages[].seconds] | add | round) | \([.stages[].peak_rss_mb] | max | round) |"' \
+          "$WORK/$id.run.json"
+      else
+        echo "| $n | (no run.json: the run failed) | | | |"
+      fi
+    done
+    echo
+    provenance length_synth
+    for id in "${LENGTH_IDS[@]}"; do provenance "$id"; done
+  fi
+
   cat <<'EOF'
 ## Not yet measured
 
@@ -551,21 +692,27 @@ Tables and rows of the paper with no counterpart in this repository yet:
   Magician, Dance, Meetup, Human3.6M, MagicianLF, WalkLF): every accuracy
   row above is on synthetic captures (plus Shelf for pose); no real
   multi-view sequence with GT masks / depth / flow is benchmarked.
-- **Real-data depth and flow benchmarks**: Middlebury stereo and MPI Sintel
-  rows (importers exist, `u4d import middlebury`; no bench runs them).
+- **Real-data depth and flow benchmarks beyond the depth term and a
+  single view**: the Middlebury rows measure E_d (and E_d + E_s) alone on
+  rectified pairs and the Sintel rows only the flow fusion under E_f's
+  temporal term + E_r (monocular data: no cross-view term, labels, depth or
+  pose); the full joint method has no real multi-view benchmark with GT.
 - **State-of-the-art baselines of the paper**: PRSM, LocalStereo, SMVS,
   SCSR (reconstruction); CRFRNN, SegNet, JSR, SCV, DeepLabv3+, Mask R-CNN,
   PSPNet (segmentation); DCFlow, 4DMatch (flow). Measured instead: the
-  baselines named in each section. An OpenCV **SGBM** stereo baseline is not
-  in any bench yet.
+  baselines named in each section (plus OpenCV SGBM on rectified pairs,
+  median-fused, in the depth table, and SGBM / BM on Middlebury).
 - **Projection error and silhouette overlap error S_e against baselines
   and ablations**: both are computed for our method end to end (`u4d run`'s
-  eval.json, "Speed" section), but not for any baseline, nor for the
-  ablations end to end (`u4d run --ablation P_M` etc. exist; not run here).
+  eval.json, "Speed" section); S_e with DeepFlow / DIS / Farneback
+  propagation is available on any scene (`u4d consistency <scene>
+  --baselines dis,farneback,deepflow`, quoted in docs/pipeline.md) but not
+  generated here, and the ablations end to end (`u4d run --ablation P_M`
+  etc. exist) are not run here.
 - **Scale**: 16 views and 1080p captures (the speed section defaults to 4
   and 8 views at 480x270; `--speed-views 16 --speed-sizes 1920x1080` runs
-  them but was not run for this file), long sequences (the paper's L =
-  hundreds of frames).
+  them but was not run for this file); the length section goes to 300
+  frames only in the full run, at 160x90.
 - **Moving cameras** (the `moving-cameras` preset) are not benchmarked.
 - The optional GPL comparison `mrf_libmaxflow_bench` (off by default).
 EOF
