@@ -244,7 +244,8 @@ if want speed; then
       run_step "$id" "$BUILD/apps/u4d" run "$cap" -o "$cap/scene" --no-progress
       cp "$cap/scene/run.json" "$WORK/$id.run.json" 2>/dev/null
       cp "$cap/scene/eval.json" "$WORK/$id.eval.json" 2>/dev/null
-      cp "$cap/scene/consistency.json" "$WORK/$id.consistency.json" 2>/dev/null
+      run_step "${id}_consistency" "$BUILD/apps/u4d" consistency "$cap/scene" \
+        --baselines deepflow,dis,farneback -o "$WORK/$id.consistency.json"
       rm -rf "$cap"
       SPEED_IDS+=("$id")
     done
@@ -309,7 +310,7 @@ EOF
 Machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //'),
 $(awk '/MemTotal/ { printf "%.0f GiB", $2 / 1048576 }' /proc/meminfo) memory; build \`$BUILD\` (${BUILD_TYPE:-unknown build type});
 commit $(git rev-parse --short HEAD 2>/dev/null)$(git diff --quiet HEAD 2>/dev/null || echo " with uncommitted changes");
-started $(date -u -d "@$SCRIPT_T0" '+%Y-%m-%d %H:%M:%S UTC'), whole script ${SCRIPT_WALL} s.
+started $(date -u -d "@$SCRIPT_T0" '+%Y-%m-%d %H:%M:%S UTC'), whole script ${SCRIPT_WALL} s$([[ -n $REUSE ]] && echo " (with --reuse: the steps already in the work folder were not rerun; each section's \"Run:\" line says when it ran)").
 The machine may be shared: the load average at the start of each bench is
 given with it; compare times only within one bench (ratios), not across
 machines or runs.
@@ -628,19 +629,22 @@ EOF
         fi
       done
       echo
-      echo "Figures that need no ground truth, from the same runs (\`consistency.json\`,"
-      echo "docs/metrics.md; docs/pipeline.md reports them for the real captures):"
+      echo "Figures that need no ground truth, from the same runs (\`u4d consistency"
+      echo "<scene> --baselines deepflow,dis,farneback\`, docs/metrics.md; docs/pipeline.md"
+      echo "reports them for the real captures). S_e here is the paper's: our masks at each"
+      echo "segment's first frame carried through the segment by a flow, against our masks"
+      echo "(1 - IoU); the OpenCV flows are computed on the same images:"
       echo
-      echo "| capture | S_e of our masks by our flow | cross-view depth agreement | cross-view label agreement | projection error vs our masks |"
-      echo "|---|---|---|---|---|"
+      echo "| capture | S_e of our masks by our flow | by DeepFlow | by DIS | by Farneback | cross-view depth agreement | cross-view label agreement | projection error vs our masks |"
+      echo "|---|---|---|---|---|---|---|---|"
       for id in "${SPEED_IDS[@]}"; do
         cfg=${id#speed_}
         if [[ -f $WORK/$id.consistency.json ]]; then
           jq -r --arg c "$cfg" 'def r3: if . == null then "" else (. * 1000 | round / 1000 | tostring) end;
-            "| \($c) | \(.silhouette_overlap_error.own_flow | r3) | \(.cross_view.depth_agreement | r3) | \(.cross_view.label_agreement | r3) | \(.projection_error.value | r3) |"' \
+            "| \($c) | \(.silhouette_overlap_error.own_flow | r3) | \(.silhouette_overlap_error.deepflow | r3) | \(.silhouette_overlap_error.dis | r3) | \(.silhouette_overlap_error.farneback | r3) | \(.cross_view.depth_agreement | r3) | \(.cross_view.label_agreement | r3) | \(.projection_error.value | r3) |"' \
             "$WORK/$id.consistency.json"
         else
-          echo "| $cfg | (no consistency.json) | | | |"
+          echo "| $cfg | (no consistency.json) | | | | | | |"
         fi
       done
       echo
@@ -707,7 +711,8 @@ Tables and rows of the paper with no counterpart in this repository yet:
   eval.json, "Speed" section); S_e with DeepFlow / DIS / Farneback
   propagation is available on any scene (`u4d consistency <scene>
   --baselines dis,farneback,deepflow`, quoted in docs/pipeline.md) but not
-  generated here, and the ablations end to end (`u4d run --ablation P_M`
+  generated against the GT masks here (only against our own masks, in the
+  speed section), and the ablations end to end (`u4d run --ablation P_M`
   etc. exist) are not run here.
 - **Scale**: 16 views and 1080p captures (the speed section defaults to 4
   and 8 views at 480x270; `--speed-views 16 --speed-sizes 1920x1080` runs
