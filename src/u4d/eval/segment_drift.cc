@@ -61,6 +61,7 @@ SegmentDrift Evaluate(const AnimatedMesh& seg, const fs::path& capture_root,
   // Match to the GT person with the smallest median vertex distance.
   double best = std::numeric_limits<double>::infinity();
   std::vector<int> match;
+  std::vector<double> d0;  // distance of each vertex to its match
   open3d::geometry::TriangleMesh gt0;
   for (int id : gt_ids) {
     const fs::path path = capture_root / layout::GtMesh(id, seg.first_frame);
@@ -70,14 +71,9 @@ SegmentDrift Evaluate(const AnimatedMesh& seg, const fs::path& capture_root,
     std::vector<double> d;
     NearestVertices(seg.positions[0], m, &mi, &d);
     const double med = Median(d);
-    if (med < best) best = med, out.gt_id = id, match = mi, gt0 = std::move(m);
+    if (med < best) best = med, out.gt_id = id, match = mi, d0 = d, gt0 = std::move(m);
   }
   if (out.gt_id == 0) return out;
-  std::vector<double> d0;
-  {
-    std::vector<int> unused;
-    NearestVertices(seg.positions[0], gt0, &unused, &d0);
-  }
   std::vector<int> followed;
   for (int i = 0; i < out.vertices; ++i)
     if (d0[i] <= options.max_match_distance) followed.push_back(i);
