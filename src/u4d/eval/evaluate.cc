@@ -203,20 +203,6 @@ void EvaluateJoints(Context& c) {
   c.report.poses = acc;
 }
 
-// Object ids with a mesh directory under `dir` (names are decimal ids).
-std::vector<int> MeshIds(const fs::path& dir) {
-  std::vector<int> ids;
-  for (const auto& entry : fs::directory_iterator(dir)) {
-    const std::string name = entry.path().filename().string();
-    if (!entry.is_directory() || name.empty() ||
-        name.find_first_not_of("0123456789") != std::string::npos)
-      continue;
-    ids.push_back(std::stoi(name));
-  }
-  std::sort(ids.begin(), ids.end());
-  return ids;
-}
-
 std::map<int, open3d::geometry::TriangleMesh> ReadMeshes(const fs::path& base,
                                                          const std::vector<int>& ids, int frame) {
   std::map<int, open3d::geometry::TriangleMesh> meshes;
@@ -232,8 +218,9 @@ std::map<int, open3d::geometry::TriangleMesh> ReadMeshes(const fs::path& base,
 void EvaluateMeshes(Context& c, bool chamfer, bool projection) {
   MeshEval mesh_eval;
   RatioMean proj;
-  const std::vector<int> pred_ids = MeshIds(c.input.pred / "meshes");
-  const std::vector<int> gt_ids = chamfer ? MeshIds(c.root / "gt/meshes") : std::vector<int>{};
+  const std::vector<int> pred_ids = MeshObjectIds(c.input.pred / "meshes");
+  const std::vector<int> gt_ids =
+      chamfer ? MeshObjectIds(c.root / "gt/meshes") : std::vector<int>{};
   for (int f = 0; f < c.capture.num_frames; ++f) {
     const auto pred = ReadMeshes(c.input.pred, pred_ids, f);
     if (chamfer) {

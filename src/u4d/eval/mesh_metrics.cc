@@ -120,4 +120,17 @@ open3d::geometry::TriangleMesh ReadMesh(const fs::path& path) {
   return mesh;
 }
 
+std::vector<int> MeshObjectIds(const fs::path& dir) {
+  std::vector<int> ids;
+  if (!fs::is_directory(dir)) return ids;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_directory() && !name.empty() &&
+        name.find_first_not_of("0123456789") == std::string::npos)
+      ids.push_back(std::stoi(name));
+  }
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
 }  // namespace u4d::eval

@@ -56,4 +56,9 @@ ChamferResult MeshChamfer(const open3d::geometry::TriangleMesh& pred,
 // is missing, unreadable or has no triangle.
 open3d::geometry::TriangleMesh ReadMesh(const fs::path& path);
 
+// Object ids of a meshes/ directory (layout <dir>/<id>/<frame>.ply): the
+// names of its subdirectories that are decimal numbers, sorted; empty when
+// `dir` does not exist.
+std::vector<int> MeshObjectIds(const fs::path& dir);
+
 }  // namespace u4d::eval

@@ -40,18 +40,6 @@ void NearestVertices(const std::vector<Eigen::Vector3d>& points,
     }
 }
 
-std::vector<int> GtIds(const fs::path& dir) {
-  std::vector<int> ids;
-  if (!fs::is_directory(dir)) return ids;
-  for (const auto& e : fs::directory_iterator(dir)) {
-    const std::string n = e.path().filename().string();
-    if (e.is_directory() && !n.empty() && n.find_first_not_of("0123456789") == std::string::npos)
-      ids.push_back(std::stoi(n));
-  }
-  std::sort(ids.begin(), ids.end());
-  return ids;
-}
-
 SegmentDrift Evaluate(const AnimatedMesh& seg, const fs::path& capture_root,
                       const std::vector<int>& gt_ids, const DriftOptions& options) {
   SegmentDrift out;
@@ -108,7 +96,7 @@ DriftReport EvaluateSegmentDrift(const fs::path& capture_root, const fs::path& s
                                  const DriftOptions& options) {
   options.Check();
   const SceneIndex index = ReadSceneIndex(scene_dir);
-  const std::vector<int> gt_ids = GtIds(capture_root / "gt/meshes");
+  const std::vector<int> gt_ids = MeshObjectIds(capture_root / "gt/meshes");
   DriftReport report;
   for (const SceneSegmentInfo& s : index.segments)
     for (const auto& [id, rel] : s.glb) {
