@@ -2,13 +2,16 @@
 // a prediction (laid out like <capture>/gt) or the capture's initial masks
 // against the ground truth, prints a table and writes eval.json atomically.
 // When <dir> is a scene written by `u4d run`, the vertex drift of its
-// segments (eval/segment_drift.h) is added.
+// segments (eval/segment_drift.h) is added. `--se-baselines deepflow,dis`
+// adds S_e of the GT masks carried by OpenCV flows on the capture's images
+// (eval/baseline_overlap.h), beside the prediction's.
 #include <memory>
 
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
 #include "apps/commands.h"
+#include "u4d/eval/baseline_overlap.h"
 #include "u4d/eval/evaluate.h"
 #include "u4d/eval/segment_drift.h"
 #include "u4d/io/layout.h"
@@ -23,6 +26,7 @@ struct EvalArgs {
   bool initial = false;
   std::string output;
   int keyframe_interval = 10;
+  std::vector<std::string> se_baselines;
 };
 }  // namespace
 
@@ -42,6 +46,10 @@ Command MakeEvalCommand() {
             app.add_option("--keyframe-interval", args->keyframe_interval,
                            "key-frame spacing for the silhouette overlap error S_e")
                 ->capture_default_str();
+            app.add_option("--se-baselines", args->se_baselines,
+                           "also S_e of the GT masks carried by these OpenCV flows on the "
+                           "capture's images: deepflow, dis, farneback")
+                ->delimiter(',');
           },
           [=] {
             U4D_CHECK(args->initial != !args->pred.empty(),
@@ -65,6 +73,19 @@ Command MakeEvalCommand() {
                   "mm, {} segments)\n",
                   drift.last_frame_drift.Mean() * 1e3, drift.last_frame_motion.Mean() * 1e3,
                   drift.last_frame_drift.count);
+            }
+            if (!args->se_baselines.empty()) {
+              std::vector<eval::FlowBaseline> baselines;
+              for (const std::string& name : args->se_baselines)
+                baselines.push_back(eval::FlowBaselineFromString(name));
+              const auto se =
+                  eval::BaselineSilhouetteOverlap(ReadCapture(input.capture), baselines, options);
+              for (const auto& [name, r] : se) {
+                j["silhouette_overlap_error_baselines"][name] = {{"value", r.Mean()},
+                                                                 {"frame_views", r.count}};
+                fmt::print("S_e of the GT masks carried by {}: {:.4f} ({} view-frames)\n", name,
+                           r.Mean(), r.count);
+              }
             }
             const fs::path out = !args->output.empty() ? fs::path(args->output)
                                  : args->initial       ? input.capture / "eval_initial.json"

@@ -24,6 +24,7 @@ struct SynthArgs {
   std::string mocap;
   std::string degrade = "default";
   bool no_meshes = false;
+  int start_frame = -1;
 };
 
 }  // namespace
@@ -88,12 +89,17 @@ Command MakeSynthCommand() {
                            "initial-input errors: none | mild | default | harsh")
                 ->capture_default_str();
             app.add_flag("--no-meshes", a->no_meshes, "skip the per-frame GT meshes");
+            app.add_option("--start-frame", a->start_frame,
+                           "first script frame of the capture (-1: the window centred on the "
+                           "first handshake)")
+                ->capture_default_str();
           },
           [=] {
             synth::SynthOptions o =
                 SynthOptionsFromArgs(a->preset, a->frames, a->views, a->width, a->height, a->people,
                                      a->seed, a->mocap, a->degrade);
             o.write_meshes = !a->no_meshes;
+            o.start_frame = a->start_frame;
             PrintSynthSummary(synth::WriteSyntheticCapture(o, a->out, /*progress=*/true), a->out);
             return 0;
           }};

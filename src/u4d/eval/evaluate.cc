@@ -144,34 +144,14 @@ void EvaluateFlowMaps(Context& c) {
   if (with_people) c.report.flow_people = people;
 }
 
-// S_e: GT instances of each key-frame, forward-warped frame by frame with the
-// predicted flow, compared with the GT instance of the same id (1 - IoU).
+// S_e of the prediction's flow (a missing flow file drops every pixel).
 void EvaluateSilhouetteOverlap(Context& c) {
-  RatioMean se;
-  const int k = c.options.keyframe_interval;
-  for (const CaptureView& v : c.capture.views)
-    for (int key = 0; key < c.capture.num_frames; key += k) {
-      const InstanceMask key_gt = ReadGtInstances(c.root, v.name, key);
-      std::map<int, cv::Mat> propagated;
-      for (const InstanceInfo& info : key_gt.instances) {
-        cv::Mat m = key_gt.ids == info.id;
-        if (cv::countNonZero(m) > 0) propagated[info.id] = m;
-      }
-      const int end = std::min(key + k, c.capture.num_frames);
-      for (int f = key + 1; f < end; ++f) {
-        cv::Mat flow = ReadPredFlow(c, v.name, f - 1, false);
-        if (flow.empty()) flow = cv::Mat(key_gt.ids.size(), CV_32FC2, cv::Scalar(1e10f, 1e10f));
-        const InstanceMask gt = ReadGtInstances(c.root, v.name, f);
-        RatioMean frame_error;
-        for (auto& [id, mask] : propagated) {
-          const std::string ctx = fmt::format("S_e {} frame {} instance {}", v.name, f, id);
-          mask = PropagateMask(mask, flow, c.options.propagate, ctx);
-          frame_error.Add(CompareMasks(mask, gt.ids == id, ctx).OneMinusIoU());
-        }
-        se.Add(frame_error.Mean());
-      }
-    }
-  c.report.silhouette_overlap_error = se;
+  c.report.silhouette_overlap_error = GtSilhouetteOverlap(
+      c.capture,
+      [&](int view, int frame) {
+        return ReadPredFlow(c, c.capture.views[view].name, frame, false);
+      },
+      c.options);
 }
 
 std::vector<Limb> LimbsFor(const std::string& skeleton, int num_joints, const std::string& ctx) {
@@ -307,6 +287,39 @@ void EvalOptions::Check() const {
   chamfer.Check();
   propagate.Check();
   U4D_CHECK(keyframe_interval >= 1, "EvalOptions: keyframe_interval must be >= 1");
+}
+
+RatioMean GtSilhouetteOverlap(const Capture& capture, const FlowSource& flow,
+                              const EvalOptions& options) {
+  options.Check();
+  RatioMean se;
+  const int k = options.keyframe_interval;
+  for (int vi = 0; vi < capture.NumViews(); ++vi) {
+    const std::string& view = capture.views[vi].name;
+    for (int key = 0; key < capture.num_frames; key += k) {
+      const InstanceMask key_gt = ReadGtInstances(capture.root, view, key);
+      std::map<int, cv::Mat> propagated;
+      for (const InstanceInfo& info : key_gt.instances) {
+        cv::Mat m = key_gt.ids == info.id;
+        if (cv::countNonZero(m) > 0) propagated[info.id] = m;
+      }
+      const int end = std::min(key + k, capture.num_frames);
+      for (int f = key + 1; f < end; ++f) {
+        cv::Mat forward = flow(vi, f - 1);
+        if (forward.empty())
+          forward = cv::Mat(key_gt.ids.size(), CV_32FC2, cv::Scalar(1e10f, 1e10f));
+        const InstanceMask gt = ReadGtInstances(capture.root, view, f);
+        RatioMean frame_error;
+        for (auto& [id, mask] : propagated) {
+          const std::string ctx = fmt::format("S_e {} frame {} instance {}", view, f, id);
+          mask = PropagateMask(mask, forward, options.propagate, ctx);
+          frame_error.Add(CompareMasks(mask, gt.ids == id, ctx).OneMinusIoU());
+        }
+        se.Add(frame_error.Mean());
+      }
+    }
+  }
+  return se;
 }
 
 EvalReport EvaluateCapture(const EvalInput& input, const EvalOptions& options) {

@@ -19,6 +19,7 @@
 // docs/metrics.md defines every number reported.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -30,6 +31,7 @@
 #include "u4d/eval/pose_metrics.h"
 #include "u4d/eval/segmentation_metrics.h"
 #include "u4d/eval/silhouette.h"
+#include "u4d/io/capture.h"
 #include "u4d/util/file.h"
 
 namespace u4d::eval {
@@ -74,5 +76,21 @@ struct EvalReport {
 };
 
 EvalReport EvaluateCapture(const EvalInput& input, const EvalOptions& options = {});
+
+// The forward flow (CV_32FC2, pixels) of view index `view` from `frame` to
+// frame + 1; an empty Mat when there is none (every pixel is then dropped).
+using FlowSource = std::function<cv::Mat(int view, int frame)>;
+
+// The silhouette overlap error S_e of any flow (docs/metrics.md): the GT
+// instance masks of every key-frame 0, k, 2k, ... (k = keyframe_interval)
+// forward-warped frame by frame with `flow`, against the GT instance of the
+// same id at each later frame of the key-frame's segment (1 - IoU per
+// instance, averaged per view-frame, then over view-frames). EvaluateCapture
+// calls it with the prediction's flow; `u4d eval --se-baselines` with OpenCV
+// flows on the capture's images, so that the two are measured alike. Throws
+// u4d::Error naming the file when a GT mask is missing or a flow's size
+// differs from it.
+RatioMean GtSilhouetteOverlap(const Capture& capture, const FlowSource& flow,
+                              const EvalOptions& options = {});
 
 }  // namespace u4d::eval

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <open3d/geometry/TriangleMesh.h>
 
+#include "u4d/eval/baseline_overlap.h"
 #include "u4d/eval/mesh_metrics.h"
 #include "u4d/eval/scene_consistency.h"
 #include "u4d/eval/segment_drift.h"
@@ -173,6 +174,41 @@ TEST_F(SceneEvalTest, BrokenViewsAreSeen) {
   EXPECT_LT(after.cross_view_by_view.at(v1).LabelAgreement(), 0.1);
   EXPECT_LT(after.cross_view.LabelAgreement(), before.cross_view.LabelAgreement() - 0.3);
   EXPECT_GT(after.se_own_flow.Mean(), before.se_own_flow.Mean());
+}
+
+// S_e against the GT masks (the protocol of `u4d eval`) for the GT flow, no
+// flow at all, and the OpenCV baselines on the capture's images. The people
+// walk centimetres per frame, so a mask left in place loses overlap; the GT
+// flow carries it (rounding and the crack closing aside); a dense flow that
+// follows the walk must do better than no flow.
+TEST_F(SceneEvalTest, BaselineFlowsCarryGtMasksBetterThanNoFlow) {
+  EvalOptions o;
+  const RatioMean gt = GtSilhouetteOverlap(
+      capture_,
+      [&](int v, int f) {
+        return ReadFlo(capture_dir_ / layout::GtFlow(capture_.views[v].name, f));
+      },
+      o);
+  const RatioMean zero = GtSilhouetteOverlap(
+      capture_,
+      [&](int v, int f) {
+        const cv::Mat like = ReadFlo(capture_dir_ / layout::GtFlow(capture_.views[v].name, f));
+        return cv::Mat(like.size(), CV_32FC2, cv::Scalar(0, 0));
+      },
+      o);
+  // Key-frame 0 and the 3 frames after it, in each of the 4 views.
+  EXPECT_EQ(gt.count, 4 * (kFrames - 1));
+  EXPECT_LT(gt.Mean(), zero.Mean());
+  const auto se =
+      BaselineSilhouetteOverlap(capture_, {FlowBaseline::kDis, FlowBaseline::kFarneback}, o);
+  ASSERT_EQ(se.size(), 2u);
+  for (const auto& [name, r] : se) {
+    SCOPED_TRACE(name);
+    EXPECT_EQ(r.count, gt.count);
+    EXPECT_LT(r.Mean(), zero.Mean());
+  }
+  std::printf("S_e vs GT masks: GT flow %.4f, zero flow %.4f, DIS %.4f, Farneback %.4f\n",
+              gt.Mean(), zero.Mean(), se.at("dis").Mean(), se.at("farneback").Mean());
 }
 
 TEST_F(SceneEvalTest, MissingAndCorruptFilesAreNamed) {
