@@ -14,6 +14,13 @@
 //       [--max-views N] [--working-width 480] [--methods full,P_M,...]
 //       [--reg-boundary free|discontinuity|ignore] [--weights '{"pose": 0.9}'] [--no-cross-view]
 //       [--reg-linear] [--no-reg-edge] [--force-merge] [--no-split-merged]
+//       [--per-view] [--dump DIR] [--pose-3d-own-label] [--semantic-temporal]
+//       [--occluder-limb-radius M]
+// --per-view: one line per method and view-frame (IoU, depth within 5 %, flow
+// EPE), for paired comparisons of the ablations. --dump DIR: per view-frame
+// f<frame>_v<view>_<name>: the initial, GT and each method's labels (16-bit
+// PNG), each method's depth and the GT depth (PFM), and the pose term's map
+// (covering person as PNG, w(p) as PFM), for per-pixel diagnosis.
 // --force-merge: the detector merges every touching pair (MaskDegradeOptions
 // merge_prob = 1, the other degradations at their defaults) and, unless
 // --start is given, the window is centred on the handshake (the hands meet);
@@ -65,9 +72,14 @@ struct Args {
   std::string methods;      // comma-separated subset of full and the ablations (empty = all)
   std::string
       reg_boundary;  // E_r at label boundaries: free | discontinuity | ignore (empty = default)
-  bool force_merge = false;  // every touching pair merged in the initial masks (see above)
-  bool start_given = false;  // --start was given
-  bool split_merged = true;  // FrameSetupOptions::split_merged (--no-split-merged: off)
+  bool force_merge = false;        // every touching pair merged in the initial masks (see above)
+  bool start_given = false;        // --start was given
+  bool split_merged = true;        // FrameSetupOptions::split_merged (--no-split-merged: off)
+  bool per_view = false;           // print every method's IoU / depth / EPE per view-frame
+  bool semantic_temporal = false;  // JointViewOptions::semantic_temporal = true
+  bool pose_3d_own_label = false;  // PosePriorOptions::shape_own_label_only = true
+  double occluder_limb = -1;       // PosePriorOptions::occluder_limb_radius_m (-1 = default)
+  std::string dump;  // folder: per view-frame labels, depth, truth and pose map (diagnosis)
 };
 
 Args ParseArgs(int argc, char** argv) {
@@ -114,12 +126,23 @@ Args ParseArgs(int argc, char** argv) {
       a.methods = next();
     else if (k == "--reg-boundary")
       a.reg_boundary = next();
+    else if (k == "--per-view")
+      a.per_view = true;
+    else if (k == "--dump")
+      a.dump = next();
+    else if (k == "--pose-3d-own-label")
+      a.pose_3d_own_label = true;
+    else if (k == "--semantic-temporal")
+      a.semantic_temporal = true;
+    else if (k == "--occluder-limb-radius")
+      a.occluder_limb = std::stod(next());
     else
       throw Error(fmt::format(
           "joint_bench: unknown argument '{}' (expected --views, --width, --height, --frames, "
           "--start, --preset, --sparse, --no-ablations, --max-views, --working-width, --methods, "
           "--reg-boundary, --weights, --no-cross-view, --reg-linear, --no-reg-edge, --force-merge, "
-          "--no-split-merged)",
+          "--no-split-merged, --per-view, --dump, --pose-3d-own-label, "
+          "--semantic-temporal, --occluder-limb-radius)",
           k));
   }
   U4D_CHECK(a.frames >= 3, "joint_bench: --frames must be >= 3 (frames 1..frames-2 are solved)");
@@ -210,6 +233,7 @@ int main(int argc, char** argv) try {
   FrameSetupOptions setup;
   setup.working_width = args.working_width;
   setup.split_merged = args.split_merged;
+  if (args.occluder_limb >= 0) setup.pose.occluder_limb_radius_m = args.occluder_limb;
   double scale = 0;
 
   for (int frame = 1; frame + 1 < capture.num_frames; ++frame) {
@@ -227,6 +251,9 @@ int main(int argc, char** argv) try {
     options.flow.cross_view = args.cross_view;
     options.motion_reg_quadratic = !args.reg_linear;
     options.motion_reg_edge_aware = args.reg_edge;
+    options.pose.shape_own_label_only = args.pose_3d_own_label;
+    options.semantic_temporal = args.semantic_temporal;
+    if (args.occluder_limb >= 0) options.pose.occluder_limb_radius_m = args.occluder_limb;
     if (args.reg_boundary == "free")
       options.motion_reg_boundary = MotionRegBoundary::kFree;
     else if (args.reg_boundary == "discontinuity")
@@ -289,6 +316,21 @@ int main(int argc, char** argv) try {
         add_seg("detector", detector, 0);
       }
       const double iou_initial = add_seg("initial", in.initial_labels, 0);
+      if (!args.dump.empty()) {
+        fs::create_directories(args.dump);
+        const fs::path base = fs::path(args.dump) / fmt::format("f{}_v{}_", frame, v);
+        WriteImage(base.string() + "initial_labels.png", in.initial_labels);
+        WriteImage(base.string() + "gt_labels.png", t.instances.ids);
+        WritePfm(base.string() + "gt_depth.pfm", t.depth);
+        WriteImage(base.string() + "image.png", in.images_t[v]);
+        const PosePriorMap pm = RenderPosePrior(in.cameras_t[v], in.cameras_t1[v], in.images_t[v],
+                                                in.people, options.pose);
+        WriteImage(base.string() + "pose_object.png", pm.object);
+        WritePfm(base.string() + "pose_weight.pfm", pm.weight);
+        cv::Mat bone_id;
+        pm.bone.convertTo(bone_id, CV_16U, 1, 1);  // 0 = none, else bone index + 1
+        WriteImage(base.string() + "pose_bone.png", bone_id);
+      }
       Timer timer;
       const cv::Mat grabcut = eval::GrabCutInstances(in.images_t[v], in.initial_labels);
       add_seg("grabcut", grabcut, timer.Seconds());
@@ -301,6 +343,18 @@ int main(int argc, char** argv) try {
         const double iou = add_seg(m, r.labels, r.seconds);
         add_depth(m, r.depth);
         add_flow(m, r.flow);
+        if (args.per_view) {
+          const eval::DepthMetrics dm = eval::EvaluateDepth(r.depth, t.depth, people, ctx);
+          const eval::FlowMetrics fm =
+              eval::EvaluateFlow(r.flow, t.flow, t.flow_valid, people, ctx);
+          std::printf("per-view frame %d view %d %s: IoU %.4f depth5 %.4f EPE %.4f\n", frame, v,
+                      m.c_str(), iou, dm.Delta5Pct(), fm.Epe());
+        }
+        if (!args.dump.empty()) {
+          const fs::path base = fs::path(args.dump) / fmt::format("f{}_v{}_", frame, v);
+          WriteImage(base.string() + m + "_labels.png", r.labels);
+          WritePfm(base.string() + m + "_depth.pfm", r.depth);
+        }
         if (m != "full") continue;
         full_roi = r.roi;
         num_depth_labels += r.num_depth_labels;

@@ -80,32 +80,47 @@ struct Problem {
     if (dp == unknown || dq == unknown) return dp == dq ? 0.0 : 1.0;
     return std::min<double>(std::abs(dp - dq), o->depth_truncation) / o->depth_truncation;
   }
-  // E_p's 3D part (couples d and m).
-  double Pose3d(int p, int dl, const Eigen::Vector2f& mp) const {
+  // E_p's 3D part (couples d and m, and l with PosePriorOptions::shape_own_label_only: the
+  // capsules constrain only the points labelled as their person). It is one term of the
+  // energy; each block's unary below includes it once.
+  double Pose3d(int p, int ll, int dl, const Eigen::Vector2f& mp) const {
     if (!use_pose || dl == unknown) return 0;
+    if (o->pose.shape_own_label_only && pose.object.ptr<uint16_t>()[p] != ll) return 0;
     return pose_3d_share *
            u4d::Pose3dCost(pose, p, Point(p, dl), Moved(p, mp), *camera_t1, o->pose);
   }
-  double DepthUnary(int p, int dl, const Eigen::Vector2f& mp) const {
+  // The unaries without E_p's 3D part.
+  double DepthOnlyUnary(int p, int dl) const {
     double e = 0;
     if (t().depth) e += w().depth * (dl == unknown ? depth.unknown_cost : depth.At(p, dl));
     if (t().smooth && !previous_depth_label.empty() && previous_depth_label[p] >= 0)
       e += w().smooth * w().smooth_temporal * DepthPair(dl, previous_depth_label[p]);
-    return e + Pose3d(p, dl, mp);
+    return e;
   }
-  // Motion mp with raw E_f cost f (volume or FlowFieldCosts, incl. e_F^S).
-  double MotionUnary(int p, const Eigen::Vector2f& mp, float f, int dl) const {
+  double MotionOnlyUnary(int p, const Eigen::Vector2f& mp, float f) const {
     double e = 0;
     if (f >= kForbiddenMotion) return mrf::kInfiniteCost;
     if (t().flow) e += w().flow * f * flow_scale;
     if (use_pose) e += pose_2d_share * PoseMotion2dCost(pose, p, mp, o->pose);
-    return e + Pose3d(p, dl, mp);
+    return e;
+  }
+  // The energy as a function of one factor at p (the others at the current labelling).
+  double DepthUnary(int p, int dl, const Eigen::Vector2f& mp) const {
+    return DepthOnlyUnary(p, dl) + Pose3d(p, l[p], dl, mp);
+  }
+  // Motion mp with raw E_f cost f (volume or FlowFieldCosts, incl. e_F^S).
+  double MotionUnary(int p, const Eigen::Vector2f& mp, float f, int dl) const {
+    const double e = MotionOnlyUnary(p, mp, f);
+    return e >= mrf::kInfiniteCost ? e : e + Pose3d(p, l[p], dl, mp);
   }
   double MotionUnary(int p, int ml, int dl) const {
     return MotionUnary(p, motion.motions[ml], motion.At(p, ml), dl);
   }
   double LabelUnary(int p, int ll) const {
     return label_unary[static_cast<size_t>(p) * num_labels + ll];
+  }
+  double LabelBlockUnary(int p, int ll) const {
+    return LabelUnary(p, ll) + (o->pose.shape_own_label_only ? Pose3d(p, ll, d[p], mv[p]) : 0.0);
   }
   // The pairwise terms with the motions given as vectors (pixels): the label
   // and depth part (E_c, E_s) plus E_r, in this order (the blocks cache the
@@ -181,7 +196,8 @@ double Problem::Energy() const {
   double e = 0;
   for (int p = 0; p < n; ++p) {
     if (!grid.IsActive(p)) continue;
-    e += LabelUnary(p, l[p]) + DepthUnary(p, d[p], mv[p]) + MotionUnary(p, mv[p], fcost[p], d[p]);
+    e += LabelUnary(p, l[p]) + DepthOnlyUnary(p, d[p]) + MotionOnlyUnary(p, mv[p], fcost[p]) +
+         Pose3d(p, l[p], d[p], mv[p]);
   }
   for (const auto& [p, q] : pairs)
     if (grid.IsActive(p) || grid.IsActive(q))
@@ -193,7 +209,7 @@ double Problem::Energy() const {
 struct LabelBlock : mrf::GridEnergy {
   const Problem& pr;
   explicit LabelBlock(const Problem& p) : pr(p) {}
-  double Unary(int p, int label) const override { return pr.LabelUnary(p, label); }
+  double Unary(int p, int label) const override { return pr.LabelBlockUnary(p, label); }
   double Pairwise(int p, int q, int lp, int lq) const override {
     return pr.PairV(p, q, lp, lq, pr.d[p], pr.d[q], pr.mv[p], pr.mv[q]);
   }
@@ -277,6 +293,37 @@ std::vector<float> WindowSpread(const LabelCostVolume& volume, const cv::Mat& la
       spread[static_cast<size_t>(y) * w + x] = static_cast<float>(sum / count - lo);
     }
   return spread;
+}
+
+// The label maps E_sem combines (JointViewOptions::semantic_temporal): the
+// initial labels of t and every other labelled image of ψ_T (t−1, t+1)
+// carried to t by dense flow (OpenCV DIS, medium preset) from the reference
+// image to that image: map(p) = labels(p + f(p)), nearest, clamped at the border.
+std::vector<cv::Mat> SemanticLabelMaps(const JointViewInput& in) {
+  std::vector<cv::Mat> maps = {in.initial_labels};
+  const cv::Mat& ref = in.images_t[in.ref_view];
+  cv::Mat ref_grey;
+  for (const LabelledImage& li : in.appearance_training) {
+    if (li.labels.data == in.initial_labels.data || li.image.data == ref.data) continue;
+    if (li.image.size() != ref.size() || li.labels.size() != ref.size() ||
+        li.labels.type() != CV_16UC1)
+      continue;
+    if (ref_grey.empty()) cv::cvtColor(ref, ref_grey, cv::COLOR_BGR2GRAY);
+    cv::Mat grey, flow;
+    cv::cvtColor(li.image, grey, cv::COLOR_BGR2GRAY);
+    cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM)->calc(ref_grey, grey, flow);
+    cv::Mat map_x(ref.size(), CV_32F), map_y(ref.size(), CV_32F);
+    for (int y = 0; y < ref.rows; ++y)
+      for (int x = 0; x < ref.cols; ++x) {
+        const cv::Vec2f f = flow.at<cv::Vec2f>(y, x);
+        map_x.at<float>(y, x) = x + f[0];
+        map_y.at<float>(y, x) = y + f[1];
+      }
+    cv::Mat carried;
+    cv::remap(li.labels, carried, map_x, map_y, cv::INTER_NEAREST, cv::BORDER_REPLICATE);
+    maps.push_back(carried);
+  }
+  return maps;
 }
 
 void CheckInput(const JointViewInput& in) {
@@ -370,7 +417,9 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
   if (training.empty()) training.push_back({in.images_t[v], in.initial_labels});
   const LabelCostVolume appearance =
       AppearanceCosts(in.images_t[v], training, in.num_labels, in.markers, o.labels);
-  const LabelCostVolume semantic = SemanticCosts(in.initial_labels, in.num_labels, o.labels);
+  const LabelCostVolume semantic =
+      SemanticCosts(o.semantic_temporal ? SemanticLabelMaps(in) : std::vector{in.initial_labels},
+                    in.num_labels, o.labels);
   pr.use_pose = o.terms.pose && !in.people.empty();
   const double pose_norm = o.weights.pose_2d + o.weights.pose_3d;
   if (pr.use_pose && pose_norm > 0) {

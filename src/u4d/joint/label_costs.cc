@@ -310,31 +310,48 @@ LabelCostVolume AppearanceCosts(const cv::Mat& image, const std::vector<Labelled
 
 LabelCostVolume SemanticCosts(const cv::Mat& initial_labels, int num_labels,
                               const LabelCostOptions& options) {
+  return SemanticCosts(std::vector<cv::Mat>{initial_labels}, num_labels, options);
+}
+
+LabelCostVolume SemanticCosts(const std::vector<cv::Mat>& label_maps, int num_labels,
+                              const LabelCostOptions& options) {
   options.Check();
-  U4D_CHECK(initial_labels.type() == CV_16UC1, "SemanticCosts: labels must be CV_16U");
+  U4D_CHECK(!label_maps.empty(), "SemanticCosts: need at least one label map");
   U4D_CHECK(num_labels >= 1, "SemanticCosts: need at least one label");
-  const int w = initial_labels.cols, h = initial_labels.rows;
+  const int w = label_maps[0].cols, h = label_maps[0].rows;
+  for (const cv::Mat& m : label_maps)
+    U4D_CHECK(m.type() == CV_16UC1 && m.cols == w && m.rows == h,
+              "SemanticCosts: label maps must be CV_16U {}x{}", w, h);
   const size_t n = static_cast<size_t>(w) * h;
   LabelCostVolume volume{w, h, num_labels, {}};
   volume.cost.assign(n * num_labels, 0.f);
-  // Signed distance to each label's region: positive inside.
-  std::vector<cv::Mat> signed_distance(num_labels);
-  for (int l = 0; l < num_labels; ++l) {
-    cv::Mat inside = initial_labels == l, outside = initial_labels != l, d_in, d_out;
-    cv::distanceTransform(inside, d_in, cv::DIST_L2, 3);
-    cv::distanceTransform(outside, d_out, cv::DIST_L2, 3);
-    signed_distance[l] = d_in - d_out;
-  }
+  // Signed distance to each label's region in each map: positive inside.
+  std::vector<std::vector<cv::Mat>> signed_distance(label_maps.size(),
+                                                    std::vector<cv::Mat>(num_labels));
+  for (size_t i = 0; i < label_maps.size(); ++i)
+    for (int l = 0; l < num_labels; ++l) {
+      cv::Mat inside = label_maps[i] == l, outside = label_maps[i] != l, d_in, d_out;
+      cv::distanceTransform(inside, d_in, cv::DIST_L2, 3);
+      cv::distanceTransform(outside, d_out, cv::DIST_L2, 3);
+      signed_distance[i][l] = d_in - d_out;
+    }
   const double eps = options.min_probability;
   tbb::parallel_for(0, h, [&](int y) {
-    std::vector<double> prob(num_labels);
+    std::vector<double> prob(num_labels), distances(label_maps.size());
     for (int x = 0; x < w; ++x) {
       double sum = 0;
       for (int l = 0; l < num_labels; ++l) {
         // Inside pixels are at distance >= 1 from the boundary, outside <= -1
-        // (distanceTransform counts to the nearest other pixel).
-        const double s = signed_distance[l].at<float>(y, x);
-        const double inside = s > 0 ? s - 0.5 : s + 0.5;
+        // (distanceTransform counts to the nearest other pixel). Several maps:
+        // the median of their signed distances (the majority's boundary).
+        for (size_t i = 0; i < label_maps.size(); ++i) {
+          const double s = signed_distance[i][l].at<float>(y, x);
+          distances[i] = s > 0 ? s - 0.5 : s + 0.5;
+        }
+        std::sort(distances.begin(), distances.end());
+        const size_t m = distances.size();
+        const double inside =
+            m % 2 == 1 ? distances[m / 2] : 0.5 * (distances[m / 2 - 1] + distances[m / 2]);
         prob[l] = eps + 1.0 / (1.0 + std::exp(-inside / options.mask_softness_px));
         sum += prob[l];
       }

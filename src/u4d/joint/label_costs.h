@@ -81,6 +81,19 @@ LabelCostVolume AppearanceCosts(const cv::Mat& image, const std::vector<Labelled
 // E_sem for labels 0..num_labels-1 from the initial label map (CV_16U).
 LabelCostVolume SemanticCosts(const cv::Mat& initial_labels, int num_labels,
                               const LabelCostOptions& options = {});
+// E_sem from several label maps of the same pixels (CV_16U, same size): the
+// paper sums E_sem over the temporal neighbourhood ψ_T; here the maps (e.g.
+// the initial masks of t−1, t, t+1 carried to t) are combined before the
+// softening: each label's signed distance to its mask boundary is the median
+// over the maps, so with three maps the boundary is the majority's and one
+// map's error (a boundary dilated by a few pixels, a dropped forearm) is
+// outvoted where the others agree. (Averaging the soft masks, or summing
+// their −log, does not outvote it near the boundary: a pixel 1 px outside the
+// truth is 4 px inside a mask dilated by 5 px, and that one confident map
+// wins against two that are just outside.) One map gives the function above.
+// Throws on an empty list or a size or type mismatch.
+LabelCostVolume SemanticCosts(const std::vector<cv::Mat>& label_maps, int num_labels,
+                              const LabelCostOptions& options = {});
 
 // Colour-contrast weight of each neighbour pair for E_c:
 // exp(−||I_p − I_q||² / (2β)) / |p − q|, β the mean of ||I_p − I_q||² over

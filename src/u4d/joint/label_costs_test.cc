@@ -1,12 +1,15 @@
 // FitColorGmm (label_costs.h): the EM written out in label_costs.cc must give
 // the fit of cv::ml::EM, the implementation it replaced (same algorithm, same
 // initialisation), and recover a known mixture.
+#include <cmath>
+#include <cstdio>
 #include <random>
 
 #include <gtest/gtest.h>
 #include <opencv2/ml.hpp>
 
 #include "u4d/joint/label_costs.h"
+#include "u4d/util/check.h"
 
 namespace u4d {
 namespace {
@@ -58,6 +61,53 @@ TEST(FitColorGmmTest, EqualsOpenCvEmAndRecoversTheMixture) {
     EXPECT_LT(best, 1.0) << "component " << i;
     EXPECT_NEAR(gmm.weights[i], 1.0 / 3, 0.01) << "component " << i;
   }
+}
+
+// E_sem over ψ_T (SemanticCosts of several maps): three masks of one true
+// disc, each wrong in its own sector (dilated, eroded, dilated by 5 px), as a
+// detector's independent per-frame boundary errors. The label preferred by
+// the combined P_sem (median signed distance) must be the truth wherever at
+// most one map errs (here everywhere), while the single-map E_sem copies the
+// reference map's error.
+TEST(SemanticCostsTest, CombinedMapsOutvoteOneMapsError) {
+  const int w = 160, h = 120, cx = 80, cy = 60;
+  const double radius = 30, err = 5;
+  // The disc with its radius changed by `delta` in the sector of angles [a0, a1) (degrees).
+  const auto disc = [&](double delta, double a0, double a1) {
+    cv::Mat m = cv::Mat::zeros(h, w, CV_16U);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        double a = std::atan2(y - cy, x - cx) * 180 / 3.14159265358979;
+        if (a < -45) a += 360;  // angles in [-45, 315)
+        const double r = radius + (a >= a0 && a < a1 ? delta : 0.0);
+        if (std::hypot(x - cx, y - cy) <= r) m.at<uint16_t>(y, x) = 1;
+      }
+    return m;
+  };
+  const cv::Mat truth = disc(0, 0, 0);
+  const std::vector<cv::Mat> maps = {disc(err, -45, 45), disc(-err, 135, 225), disc(err, 225, 315)};
+  const auto errors = [&](const LabelCostVolume& v) {
+    int wrong = 0;
+    for (int p = 0; p < w * h; ++p) {
+      const int best = v.At(p, 1) < v.At(p, 0) ? 1 : 0;
+      wrong += best != truth.ptr<uint16_t>()[p];
+    }
+    return wrong;
+  };
+  const int single = errors(SemanticCosts(maps[0], 2));
+  const int combined = errors(SemanticCosts(maps, 2));
+  // The reference map's dilated sector: a quarter of the annulus between r and r + 5.
+  const double sector =
+      0.25 * 3.14159265358979 * ((radius + err) * (radius + err) - radius * radius);
+  EXPECT_GT(single, 0.8 * sector);
+  // Only pixels on the true boundary can still go either way (rounding of the
+  // discrete distances): far fewer than one map's error.
+  EXPECT_LT(combined, 0.1 * single);
+  std::printf("wrong pixels: single map %d, three maps %d (sector %.0f)\n", single, combined,
+              sector);
+  EXPECT_THROW(SemanticCosts(std::vector<cv::Mat>{}, 2), Error);
+  EXPECT_THROW(SemanticCosts(std::vector<cv::Mat>{truth, cv::Mat::zeros(10, 10, CV_16U)}, 2),
+               Error);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <tuple>
 #include <utility>
 
@@ -38,12 +39,60 @@ double SegmentDistance(const V& x, const V& a, const V& b) {
   return (a + SegmentParameter(x, a, b) * (b - a) - x).norm();
 }
 
+// The depth of the nearest surface of `person`'s capsules with the arm and leg
+// radii raised to options.occluder_limb_radius_m (infinity where none covers).
+cv::Mat RenderOuterDepth(const Camera& camera, const PersonPose& person,
+                         const PosePriorOptions& options) {
+  const int w = camera.width, h = camera.height;
+  cv::Mat z_min(h, w, CV_32F, cv::Scalar(std::numeric_limits<float>::infinity()));
+  for (const auto& [ja, jb] : H36m17Bones()) {
+    const Eigen::Vector4d& a4 = person.at_t.joints[ja];
+    const Eigen::Vector4d& b4 = person.at_t.joints[jb];
+    if (a4.w() < options.min_confidence || b4.w() < options.min_confidence) continue;
+    auto [ra, rb] = BoneRadii(ja, jb, options);
+    // Arm and leg bones: the clothed limb's outer radius; the torso and head
+    // radii already bound the body.
+    if (ra == options.limb_radius_m && rb == options.limb_radius_m)
+      ra = rb = std::max(options.limb_radius_m, options.occluder_limb_radius_m);
+    Eigen::Vector3d a = a4.head<3>(), b = b4.head<3>();
+    if (options.head_joint_on_crown && jb == h36m17::kHead) {
+      const double len = (b - a).norm();
+      if (len > 0) b = b - (b - a) * std::min(rb / len, 1.0);
+    }
+    for (int s = 0; s <= options.samples_per_bone; ++s) {
+      const double u = static_cast<double>(s) / options.samples_per_bone;
+      const Eigen::Vector3d x = a + u * (b - a);
+      const double z = camera.Depth(x);
+      if (!(z > 0)) continue;
+      const Eigen::Vector2d c = camera.Project(x);
+      if (!c.allFinite()) continue;
+      const double radius_m = ra + u * (rb - ra);
+      const double radius_px = camera.K(0, 0) * radius_m / z;
+      const int cx = static_cast<int>(std::lround(c.x())),
+                cy = static_cast<int>(std::lround(c.y()));
+      const int r = static_cast<int>(std::ceil(radius_px));
+      for (int y = std::max(0, cy - r); y <= std::min(h - 1, cy + r); ++y)
+        for (int xx = std::max(0, cx - r); xx <= std::min(w - 1, cx + r); ++xx) {
+          const double off_px = (Eigen::Vector2d(xx, y) - c).norm();
+          if (off_px > radius_px) continue;
+          const double off_m = off_px / radius_px * radius_m;
+          const float zs =
+              static_cast<float>(z - std::sqrt(std::max(0.0, radius_m * radius_m - off_m * off_m)));
+          float& cur = z_min.at<float>(y, xx);
+          cur = std::min(cur, zs);
+        }
+    }
+  }
+  return z_min;
+}
+
 }  // namespace
 
 void PosePriorOptions::Check() const {
   U4D_CHECK(limb_radius_m > 0 && torso_radius_m > 0 && head_radius_m > 0,
             "PosePriorOptions: capsule radii must be > 0");
   U4D_CHECK(core_fraction > 0, "PosePriorOptions.core_fraction must be > 0");
+  U4D_CHECK(occluder_limb_radius_m >= 0, "PosePriorOptions.occluder_limb_radius_m must be >= 0");
   U4D_CHECK(samples_per_bone >= 2, "PosePriorOptions.samples_per_bone must be >= 2");
   U4D_CHECK(min_confidence >= 0 && min_confidence <= 1,
             "PosePriorOptions.min_confidence must be in [0, 1]");
@@ -69,8 +118,16 @@ PosePriorMap RenderPosePrior(const Camera& camera_t, const Camera& camera_t1, co
   map.has_motion = cv::Mat::zeros(h, w, CV_8U);
   cv::Mat zbuf(h, w, CV_32F, cv::Scalar(std::numeric_limits<float>::infinity()));
   cv::Mat axis_colour(h, w, CV_8UC3, cv::Scalar::all(0));
+  // Per person, the nearest surface of its capsules with clothed limbs
+  // (occluder_limb_radius_m): where another person's body may be in front, a
+  // capsule behind it claims nothing.
+  std::vector<cv::Mat> outer_z;
+  if (options.occluder_limb_radius_m > options.limb_radius_m && people.size() > 1)
+    for (const PersonPose& person : people)
+      outer_z.push_back(RenderOuterDepth(camera_t, person, options));
 
-  for (const PersonPose& person : people) {
+  for (size_t pi = 0; pi < people.size(); ++pi) {
+    const PersonPose& person = people[pi];
     U4D_CHECK(person.object_id >= 1, "RenderPosePrior: person object id must be >= 1");
     for (const auto& [ja, jb] : H36m17Bones()) {
       const Eigen::Vector4d& a4 = person.at_t.joints[ja];
@@ -144,6 +201,10 @@ PosePriorMap RenderPosePrior(const Camera& camera_t, const Camera& camera_t1, co
             const double z_surface =
                 z - std::sqrt(std::max(0.0, radius_m * radius_m - off_m * off_m));
             if (z_surface >= zbuf.at<float>(y, xx)) continue;
+            bool occluded = false;
+            for (size_t j = 0; j < outer_z.size() && !occluded; ++j)
+              occluded = j != pi && outer_z[j].at<float>(y, xx) < z_surface;
+            if (occluded) continue;
             zbuf.at<float>(y, xx) = static_cast<float>(z_surface);
             const double dist =
                 (pa.allFinite() && pb.allFinite()) ? SegmentDistance(px, pa, pb) : (px - c).norm();
