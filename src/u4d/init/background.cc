@@ -82,6 +82,8 @@ BackgroundModel MedianOfLab(const std::vector<cv::Mat>& labs) {
 
 void BackgroundOptions::Check() const {
   U4D_CHECK(max_frames >= 1, "BackgroundOptions.max_frames must be >= 1, found {}", max_frames);
+  U4D_CHECK(envelope_min_frames >= 1,
+            "BackgroundOptions.envelope_min_frames must be >= 1, found {}", envelope_min_frames);
 }
 
 BackgroundModel EstimateBackground(int num_frames, const std::function<cv::Mat(int)>& read_frame,
@@ -103,7 +105,17 @@ BackgroundModel EstimateBackground(int num_frames, const std::function<cv::Mat(i
     cv::cvtColor(frame, lab, cv::COLOR_BGR2Lab);
     labs.push_back(lab);
   }
-  return MedianOfLab(labs);
+  BackgroundModel model = MedianOfLab(labs);
+  if (options.envelope) {
+    // Per pixel, the sampled frames whose (cleaned) foreground covers it.
+    const InitOptions fg_options;
+    cv::Mat count = cv::Mat::zeros(model.lab.size(), CV_16UC1);
+    for (const cv::Mat& lab : labs)
+      cv::add(count, ForegroundFromLab(lab, model, fg_options) / 255, count, cv::noArray(),
+              CV_16UC1);
+    model.envelope = count >= options.envelope_min_frames;
+  }
+  return model;
 }
 
 BackgroundModel EstimateBackground(const std::vector<cv::Mat>& frames,
@@ -123,6 +135,11 @@ cv::Mat ForegroundMask(const cv::Mat& image_bgr, const BackgroundModel& backgrou
             image_bgr.rows, background.Width(), background.Height());
   cv::Mat lab;
   cv::cvtColor(image_bgr, lab, cv::COLOR_BGR2Lab);
+  return ForegroundFromLab(lab, background, options);
+}
+
+cv::Mat ForegroundFromLab(const cv::Mat& lab, const BackgroundModel& background,
+                          const InitOptions& options) {
   const double global = std::max(background.sigma, options.min_noise_sigma);
   cv::Mat fg(lab.size(), CV_8UC1, cv::Scalar(0));
   tbb::parallel_for(0, lab.rows, [&](int y) {

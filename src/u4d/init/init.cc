@@ -7,6 +7,19 @@
 #include "u4d/util/check.h"
 
 namespace u4d {
+namespace {
+
+std::vector<cv::Mat> SplitAll(const std::vector<cv::Mat>& images, const std::vector<cv::Mat>& fg,
+                              const std::vector<std::vector<PersonBox>>& boxes,
+                              const InitOptions& options) {
+  const int nv = static_cast<int>(images.size());
+  std::vector<cv::Mat> ids(nv);
+  tbb::parallel_for(0, nv,
+                    [&](int v) { ids[v] = SplitInstances(images[v], fg[v], boxes[v], options); });
+  return ids;
+}
+
+}  // namespace
 
 void InitOptions::Check() const {
   U4D_CHECK(threshold_sigmas > 0, "InitOptions.threshold_sigmas must be > 0, found {}",
@@ -55,6 +68,17 @@ void InitOptions::Check() const {
             "InitOptions.box_min_coverage must be in [0, 1], found {}", box_min_coverage);
   U4D_CHECK(grabcut_box_iterations >= 0,
             "InitOptions.grabcut_box_iterations must be >= 0, found {}", grabcut_box_iterations);
+  U4D_CHECK(still_grabcut_iterations >= 0,
+            "InitOptions.still_grabcut_iterations must be >= 0, found {}",
+            still_grabcut_iterations);
+  U4D_CHECK(envelope_dilation >= 0 && envelope_dilation < 1,
+            "InitOptions.envelope_dilation must be in [0, 1), found {}", envelope_dilation);
+  U4D_CHECK(envelope_ring > 0 && envelope_ring < 1,
+            "InitOptions.envelope_ring must be in (0, 1), found {}", envelope_ring);
+  U4D_CHECK(ghost_edge_ratio > 0, "InitOptions.ghost_edge_ratio must be > 0, found {}",
+            ghost_edge_ratio);
+  U4D_CHECK(still_max_side >= 32, "InitOptions.still_max_side must be >= 32, found {}",
+            still_max_side);
   U4D_CHECK(grabcut_max_side >= 16, "InitOptions.grabcut_max_side must be >= 16, found {}",
             grabcut_max_side);
 }
@@ -80,7 +104,7 @@ std::vector<cv::Mat> UnsupervisedInstanceMasks(const std::vector<Camera>& camera
                 images_t[v].cols, images_t[v].rows, cameras[v].width, cameras[v].height);
     }
   }
-  std::vector<cv::Mat> fg(nv);
+  std::vector<cv::Mat> fg(nv), filled(nv);
   std::vector<std::vector<PersonBox>> boxes(nv);
   // Views in parallel; HOG and OpenCV's filters are themselves parallel.
   tbb::parallel_for(0, nv, [&](int v) {
@@ -89,13 +113,26 @@ std::vector<cv::Mat> UnsupervisedInstanceMasks(const std::vector<Camera>& camera
       boxes[v] = DetectPeople(images_t[v], options);
       fg[v] = AddDetectedPeople(images_t[v], fg[v], boxes[v], options);
     }
+    if (options.remove_ghosts) fg[v] = RemoveGhosts(images_t[v], fg[v], backgrounds[v], options);
+    if (options.still_grabcut_iterations > 0)
+      filled[v] = FillStillSubjects(images_t[v], fg[v], backgrounds[v], options);
   });
+  if (options.still_grabcut_iterations > 0) {
+    if (options.cross_view && cameras.size() >= 2 && options.carve_still_fill) {
+      // Components are kept or dropped as a whole (step 3); of the pixels
+      // step 5 added, only those the other views confirm stay.
+      InitOptions carve = options;
+      carve.carve_pixels = true;
+      const std::vector<cv::Mat> kept = CrossViewConsistentMasks(cameras, filled, options);
+      const std::vector<cv::Mat> confirmed = CrossViewConsistentMasks(cameras, filled, carve);
+      for (int v = 0; v < nv; ++v) fg[v] = kept[v] & (fg[v] | confirmed[v]);
+      return SplitAll(images_t, fg, boxes, options);
+    }
+    fg = filled;
+  }
   if (options.cross_view && cameras.size() >= 2)
     fg = CrossViewConsistentMasks(cameras, fg, options);
-  std::vector<cv::Mat> ids(nv);
-  tbb::parallel_for(0, nv,
-                    [&](int v) { ids[v] = SplitInstances(images_t[v], fg[v], boxes[v], options); });
-  return ids;
+  return SplitAll(images_t, fg, boxes, options);
 }
 
 InstanceMask ToInstanceMask(const cv::Mat& ids) {

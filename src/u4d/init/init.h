@@ -58,6 +58,21 @@
 //    probable background = a ring around the hull, background elsewhere in
 //    its box and on other instances).
 //
+// 5. Subjects who stay in place (on by default; docs/init.md). A median
+//    background contains a subject who stays in place for most of the
+//    sampled frames, so step 2 finds only the parts that move (limbs) and
+//    "ghosts" where the subject was in the model but no longer is. The
+//    background also keeps the temporal envelope of the sampled frames'
+//    foreground (where the moving parts swept). Per frame, ghost components
+//    are dropped (RemoveGhosts: their outline is an edge of the model, not of
+//    the image), then FillStillSubjects runs GrabCut in the convex hull of
+//    the envelope's components that the frame's foreground touches, with
+//    colour models learnt from the sure pixels only (the frame's foreground;
+//    the surroundings beyond a ring around the hull), and adds what it finds
+//    in the hull where the background model also shows the subject. In
+//    UnsupervisedInstanceMasks the added pixels are kept only where the
+//    cross-view check confirms them (carve_still_fill).
+//
 // Output: CV_16UC1 ids per view, 0 = background, 1..n local to the view
 // (sorted left to right by the instance's centroid), the format of the
 // capture's masks/ (io/instance_mask.h, docs/formats.md). Ids are NOT the
@@ -65,8 +80,9 @@
 //
 // Failure modes: throws u4d::Error on empty images, a size that differs
 // between a frame and its background or camera, a non-BGR image, mismatched
-// vector sizes, or bad options. It does not detect people who stand still
-// for most of the sampled frames (they become background), nor separate
+// vector sizes, or bad options. It does not detect people who stand
+// entirely still for most of the sampled frames (no envelope: they are
+// background; the HOG box GrabCut is the optional remedy), nor separate
 // people who overlap in a view without a HOG detection for each.
 #pragma once
 
@@ -82,8 +98,15 @@ namespace u4d {
 
 struct BackgroundOptions {
   int max_frames = 25;  // frames sampled evenly over the sequence for the median (>= 1)
+  // Temporal envelope (step 5): also keep, per pixel, whether the sampled
+  // frames' foreground (step 2 with a default InitOptions, i.e. the
+  // defaults of its foreground fields) covered it in at least
+  // envelope_min_frames of them. Costs one foreground pass per sampled frame
+  // (the frames are in memory already).
+  bool envelope = true;
+  int envelope_min_frames = 1;  // >= 1; 1 = the union of the sampled frames' foreground
 
-  void Check() const;  // throws u4d::Error when max_frames < 1
+  void Check() const;  // throws u4d::Error naming the offending field
 };
 
 // A static camera's background.
@@ -93,6 +116,8 @@ struct BackgroundModel {
   cv::Mat pixel_sigma;  // CV_32FC1 per-pixel noise level (Lab units)
   double sigma = 0;     // global noise level (Lab units), see above
   int frames_used = 0;  // frames in the median
+  cv::Mat envelope;     // CV_8UC1 0/255 temporal envelope of the foreground (step 5);
+                        // empty when BackgroundOptions::envelope is off
 
   bool Empty() const { return lab.empty(); }
   int Width() const { return lab.cols; }
@@ -145,6 +170,16 @@ struct InitOptions {
   double min_instance_fraction = 5e-4;  // instances smaller than this * area are dropped
   int grabcut_iterations = 0;           // cv::grabCut iterations per instance; 0 = off
   int grabcut_max_side = 200;           // instance box is downscaled to this side for GrabCut
+  // Still subjects (step 5, FillStillSubjects; needs BackgroundModel::envelope).
+  int still_grabcut_iterations = 3;  // GrabCut iterations in the envelope's hull; 0 = off
+  double envelope_dilation = 0.02;   // envelope dilation before its hull (x image height)
+  double envelope_ring = 0.04;       // probable-background ring around the hull (x height)
+  int still_max_side = 400;          // GrabCut runs with the image's longest side at most this
+  bool still_require_model = true;   // add only where the background model shows the subject
+  bool carve_still_fill = true;      // keep filled pixels only where cross-view consistent
+  bool remove_ghosts = true;         // drop ghost components (RemoveGhosts) before step 5
+  double ghost_edge_ratio = 0.5;     // ghost: outline gradient in the image < this x in
+                                     // the model (0.5: the model's edge is clearly stronger)
 
   void Check() const;  // throws u4d::Error naming the offending field
 };
@@ -177,6 +212,42 @@ std::vector<PersonBox> DetectPeople(const cv::Mat& image_bgr, const InitOptions&
 // rest of the box, background in a margin around it. Cleaned as step 2.
 cv::Mat AddDetectedPeople(const cv::Mat& image_bgr, const cv::Mat& foreground,
                           const std::vector<PersonBox>& boxes, const InitOptions& options = {});
+
+// Step 5a: ghosts out of the foreground. Where a subject stood in most of
+// the background's frames but no longer does, the uncovered background
+// differs from the model and is foreground ("ghost"). A real object's
+// outline is an edge of the image; a ghost's outline is an edge of the
+// background model (the subject who was there) while the image shows the
+// continuing background. A connected component of `foreground` whose mean
+// gradient magnitude (Sobel of the grey image) on the band just inside its
+// outline (2 px per 360 px of height) is below ghost_edge_ratio x that of
+// the background model is removed. `ghosts` (optional) receives the removed
+// pixels. Throws on a non-BGR image or sizes that differ.
+cv::Mat RemoveGhosts(const cv::Mat& image_bgr, const cv::Mat& foreground,
+                     const BackgroundModel& background, const InitOptions& options = {},
+                     cv::Mat* ghosts = nullptr);
+
+// Step 5b: the foreground plus the still parts of subjects that moved only
+// partly (in the background model, so not found by step 2). Per connected
+// component of the background's envelope (dilated by envelope_dilation x
+// height) that this frame's foreground touches, its convex hull is the region
+// that may hold a subject staying in place. cv::grabCut, at a resolution of at
+// most still_max_side, is seeded with: sure foreground = `foreground`,
+// probable foreground = the hulls, probable background = a ring of
+// envelope_ring x height around them, sure background elsewhere (in a box
+// around the ring). Its colour models (5-component GMMs) are learnt from the
+// sure pixels only, a first cut is made with them frozen, then
+// still_grabcut_iterations - 1 rounds of GrabCut's usual alternation. With
+// still_require_model a pixel is added only if the same cut on the
+// background model image (final colour models, frozen) also calls it
+// foreground: the subject is missing from step 2 only where the model shows
+// it. What is found inside the hulls is added; the result is cleaned as step
+// 2. Returns `foreground` unchanged when the background has no envelope, the
+// envelope or the foreground is empty, fewer than 50 sure pixels of either
+// kind exist, or still_grabcut_iterations is 0. Deterministic (fixed seed
+// for GrabCut's k-means). Throws on a non-BGR image or sizes that differ.
+cv::Mat FillStillSubjects(const cv::Mat& image_bgr, const cv::Mat& foreground,
+                          const BackgroundModel& background, const InitOptions& options = {});
 
 // Step 4: instance ids (CV_16UC1, 1..n left to right) from a foreground mask
 // and the image; `boxes` as from DetectPeople (may be empty).

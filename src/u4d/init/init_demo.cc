@@ -72,7 +72,14 @@ int main(int argc, char** argv) {
       std::vector<cv::Mat> tiles;
       for (int v = 0; v < nv; ++v) {
         cv::Mat b;
-        cv::resize(bg[v].bgr, b, cv::Size(240, 240 * bg[0].Height() / bg[0].Width()));
+        b = bg[v].bgr.clone();
+        if (!bg[v].envelope.empty()) {  // the temporal envelope (step 5) tinted red
+          cv::Mat red(b.size(), CV_8UC3, cv::Scalar(0, 0, 255));
+          cv::Mat mixed;
+          cv::addWeighted(b, 0.5, red, 0.5, 0, mixed);
+          mixed.copyTo(b, bg[v].envelope);
+        }
+        cv::resize(b, b, cv::Size(240, 240 * bg[0].Height() / bg[0].Width()));
         tiles.push_back(b);
       }
       cv::Mat row;
@@ -87,6 +94,11 @@ int main(int argc, char** argv) {
     if (const char* g = std::getenv("U4D_INIT_GRABCUT")) options.grabcut_iterations = std::atoi(g);
     if (const char* g = std::getenv("U4D_INIT_BOX_GRABCUT"))
       options.grabcut_box_iterations = std::atoi(g);
+    if (const char* g = std::getenv("U4D_INIT_STILL"))
+      options.still_grabcut_iterations = std::atoi(g);
+    if (const char* g = std::getenv("U4D_INIT_CARVE_STILL"))
+      options.carve_still_fill = std::atoi(g) != 0;
+    if (const char* g = std::getenv("U4D_INIT_GHOSTS")) options.remove_ghosts = std::atoi(g) != 0;
     if (const char* g = std::getenv("U4D_INIT_HOG")) options.use_hog = std::atoi(g) != 0;
     if (const char* g = std::getenv("U4D_INIT_CROSS_VIEW")) options.cross_view = std::atoi(g) != 0;
     for (const int f : frames) {

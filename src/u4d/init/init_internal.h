@@ -16,6 +16,9 @@ inline double LabDistance(const cv::Vec3b& a, const cv::Vec3b& b) {
   return std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
 }
 
+// ForegroundMask (step 2) of an image already in 8-bit Lab (sizes checked by the caller).
+cv::Mat ForegroundFromLab(const cv::Mat& lab, const BackgroundModel& background,
+                          const InitOptions& options);
 // Opening and closing, then components and holes below min_blob_fraction go.
 cv::Mat CleanMask(const cv::Mat& mask, const InitOptions& options);
 // Sets components (8-connected, of a 0/255 mask) smaller than min_area to 0.
