@@ -55,12 +55,19 @@ struct Context {
   }
 };
 
+// An input named explicitly must exist: without it the run would go on with
+// no masks or no people and write an empty scene.
 MaskSource ResolveMasks(const Capture& cap, MaskSource s) {
+  if (s == MaskSource::kGiven) CheckDirExists(cap.root / "masks", "initial masks (--masks given)");
   if (s != MaskSource::kAuto) return s;
   return fs::is_directory(cap.root / "masks") ? MaskSource::kGiven : MaskSource::kUnsupervised;
 }
 
 PoseSource ResolvePoses(const Capture& cap, PoseSource s) {
+  if (s == PoseSource::kGiven3d)
+    CheckDirExists(cap.root / "poses3d", "given 3D poses (--poses given3d)");
+  if (s == PoseSource::kFrom2d)
+    CheckDirExists(cap.root / "poses2d", "2D keypoints (--poses from2d)");
   if (s != PoseSource::kAuto) return s;
   if (fs::is_directory(cap.root / "poses3d")) return PoseSource::kGiven3d;
   if (fs::is_directory(cap.root / "poses2d")) return PoseSource::kFrom2d;

@@ -247,6 +247,16 @@ TEST(PipelineTest, CorruptFrameAndMismatchedOptionsFailClearly) {
   RunOptions other = FastOptions();
   other.ablation = "P_M";
   EXPECT_THROW(RunPipeline(capture, scene, other), Error);
+
+  // Inputs named explicitly but absent from the capture (the synthetic one
+  // has masks and 2D keypoints, no given 3D poses) are refused by name,
+  // before anything is written, instead of giving an empty scene.
+  RunOptions given3d = FastOptions();
+  given3d.poses = PoseSource::kGiven3d;
+  const fs::path scene3d = test_util::FreshTestDir("pipeline", "given3d");
+  test_util::ExpectErrorMentions([&] { RunPipeline(capture, scene3d, given3d); },
+                                 {"poses3d", "--poses given3d"});
+  EXPECT_FALSE(fs::exists(scene3d / "run.json"));
 }
 
 }  // namespace
