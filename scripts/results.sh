@@ -85,6 +85,7 @@ if [[ $MODE == quick ]]; then
   : "${SPEED_VIEWS:=4}" "${SPEED_SIZES:=320x180}" "${SPEED_FRAMES:=3}"
   : "${LENGTH_FRAMES:=10 30}"
   SCEN_ARGS=(--frames 3 --views 4 --width 320 --height 180)
+  RECON_ARGS=(--views 8 --width 320 --height 180 --working-width 320 --frames 3 --methods full,P_P)
   ABL_RUN_ARGS=(--working-width 160)
   SCALE_VIEWS="4 8 16" SCALE_VIEW_SIZE=160x90 SCALE_SIZES="160x90 640x360" SCALE_FRAMES=2
 else
@@ -98,6 +99,7 @@ else
   RENDER_ARGS=()
   : "${SPEED_VIEWS:=4 8}" "${SPEED_SIZES:=480x270}" "${SPEED_FRAMES:=4}"
   SCEN_ARGS=(--frames 10 --views 8 --width 480 --height 270)
+  RECON_ARGS=(--views 8 --frames 3 --methods full,P_M,P_P,P_S)
   ABL_RUN_ARGS=(--frames 4)
   SCALE_VIEWS="4 8 16" SCALE_VIEW_SIZE=480x270 SCALE_SIZES="480x270 960x540 1920x1080" SCALE_FRAMES=2
 fi
@@ -238,6 +240,7 @@ B=$BUILD/bench
 # ---- run everything (one at a time) -------------------------------------------
 want seg || want depth || want flow && run_step joint "$B/joint_bench" "${JOINT_ARGS[@]}"
 want depth && run_step depth_cost "$B/depth_cost_bench" "${DEPTH_ARGS[@]}"
+want depth && run_step recon "$B/joint_bench" "${RECON_ARGS[@]}"
 want flow && run_step flow_cost "$B/flow_cost_bench"
 want middlebury && run_step middlebury "$B/middlebury_bench"
 want sintel && run_step sintel "$B/sintel_bench"
@@ -419,6 +422,18 @@ EOF
       "DIS $(md_cell joint Flow dis 2), DeepFlow $(md_cell joint Flow deepflow 2), Farneback $(md_cell joint Flow farneback 2) |" \
       "full $(md_cell joint Flow full 2) | Flow |"
   fi
+  if [[ -f $WORK/recon.meta ]]; then
+    echo "| projection error of the fused surface, GT masks (Reconstruction evaluation) |" \
+      "WTA $(md_cell recon Reconstruction wta 2), SGBM $(md_cell recon Reconstruction sgbm 2) (GT depth $(md_cell recon Reconstruction gt 2)) |" \
+      "full $(md_cell recon Reconstruction full 2) | Reconstruction / depth |"
+  fi
+  for id in "${SCEN_IDS[@]}"; do
+    if [[ $id == scen_walk && -f $WORK/$id.eval.json ]]; then
+      echo "| S_e of the GT masks carried by the flow, two people walking (Silhouette overlap error) | $(jq -r \
+        '.silhouette_overlap_error_baselines | "DeepFlow \(.deepflow.value * 1000 | round / 1000), DIS \(.dis.value * 1000 | round / 1000), Farneback \(.farneback.value * 1000 | round / 1000)"' \
+        "$WORK/$id.eval.json") | ours $(jq -r '.silhouette_overlap_error.value * 1000 | round / 1000' "$WORK/$id.eval.json") | End to end |"
+    fi
+  done
   if [[ -f $WORK/middlebury.meta ]]; then
     echo "| Middlebury, depth term alone: mean bad-pixel rate > 1 px (4 pairs) |" \
       "SGBM $(md_cell middlebury "Mean over" sgbm 2), BM $(md_cell middlebury "Mean over" bm 2) |" \
@@ -488,6 +503,23 @@ nothing (docs/depth.md has it on 8 views).
 
 EOF
     joint_section "Depth"
+    if [[ -f $WORK/recon.meta ]]; then
+      cat <<'EOF'
+### Projection error of the fused surfaces
+
+The paper's measure itself: every view's depth map of a method (the GT depth
+as the floor, the winner-take-all plane sweep, SGBM, the joint method and
+ablations) fused per person with the GT masks by the same Poisson fusion
+(`eval/fused_reconstruction.h`, docs/fusion.md), the meshes rendered into
+every view: |render xor GT mask| / |GT mask|, and the Chamfer distance to the
+GT mesh. All views of the frame are solved (`joint_bench` without
+`--max-views`); the masks are the GT's for every method, so only the depth
+differs.
+
+EOF
+      md_table recon "Reconstruction"
+      provenance recon
+    fi
     if [[ -f $WORK/depth_cost.meta ]]; then
       cat <<'EOF'
 ### Depth cost volume (plane sweep) speed and WTA accuracy
