@@ -826,8 +826,8 @@ EOF
       for id in "${SPEED_IDS[@]}"; do
         cfg=${id#speed_}
         if [[ -f $WORK/$id.eval.json ]]; then
-          jq -r --arg c "$cfg" 'def r3: if . == null then "" else (. * 1000 | round / 1000 | tostring) end;
-            "| \($c) | \(.instances.mean_instance_iou | r3) | \(.depth_people.delta_5pct | r3) | \(.flow_people.epe_px | r3) | \(.silhouette_overlap_error.value | r3) | \(.projection_error.value | r3) | \(if .meshes.chamfer_m == null then "" else (.meshes.chamfer_m * 1000 | . * 10 | round / 10 | tostring) end) | \(if .vertex_drift.last_frame_drift_m == null then "" else "\(.vertex_drift.last_frame_drift_m * 10000 | round / 10) (\(.vertex_drift.last_frame_motion_m * 10000 | round / 10))" end) |"' \
+          jq -r --arg c "$cfg" "$JQ_DEFS"'
+            "| \($c) | \(.instances.mean_instance_iou | r3) | \(.depth_people.delta_5pct | r3) | \(.flow_people.epe_px | r3) | \(.silhouette_overlap_error.value | r3) | \(.projection_error.value | r3) | \(.meshes.chamfer_m | mm) | \(drift) |"' \
             "$WORK/$id.eval.json"
         else
           echo "| $cfg | (no eval.json) | | | | | | |"
@@ -845,7 +845,7 @@ EOF
       for id in "${SPEED_IDS[@]}"; do
         cfg=${id#speed_}
         if [[ -f $WORK/$id.consistency.json ]]; then
-          jq -r --arg c "$cfg" 'def r3: if . == null then "" else (. * 1000 | round / 1000 | tostring) end;
+          jq -r --arg c "$cfg" "$JQ_DEFS"'
             "| \($c) | \(.silhouette_overlap_error.own_flow | r3) | \(.silhouette_overlap_error.deepflow | r3) | \(.silhouette_overlap_error.dis | r3) | \(.silhouette_overlap_error.farneback | r3) | \(.cross_view.depth_agreement | r3) | \(.cross_view.label_agreement | r3) | \(.projection_error.value | r3) |"' \
             "$WORK/$id.consistency.json"
         else
