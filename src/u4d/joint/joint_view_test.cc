@@ -29,6 +29,15 @@ class JointViewSynthTest : public ::testing::Test {
     dir_ = new fs::path(synth::WriteCaptureToTempDir("joint_view", options));
   }
   static void TearDownTestSuite() { delete dir_; }
+  // The frame's joint inputs with the GT 3D poses standing in for the
+  // estimated ones (pose/ measures its own accuracy: 27 mm MPJPE on this
+  // preset); the sparse motions are left empty.
+  static JointFrameData GtPoseFrameData(const Capture& capture, FrameReader* reader, int frame) {
+    std::vector<std::vector<Pose3d>> poses(capture.num_frames);
+    for (int f = 0; f < capture.num_frames; ++f)
+      poses[f] = ReadPoses3d(capture.root / layout::GtJoints3d(f));
+    return ReadJointFrameData(capture, reader, frame, poses);
+  }
   static fs::path* dir_;
 };
 fs::path* JointViewSynthTest::dir_ = nullptr;
@@ -37,12 +46,7 @@ TEST_F(JointViewSynthTest, EnergyDecreasesAndImprovesLabelsDepthAndFlow) {
   const Capture capture = ReadCapture(*dir_);
   FrameReader reader(capture);
   const int frame = 1;
-  // GT 3D poses stand in for the estimated ones (pose/ measures its own
-  // accuracy: 27 mm MPJPE on this preset).
-  std::vector<std::vector<Pose3d>> poses(capture.num_frames);
-  for (int f = 0; f < capture.num_frames; ++f)
-    poses[f] = ReadPoses3d(capture.root / layout::GtJoints3d(f));
-  JointFrameData data = ReadJointFrameData(capture, &reader, frame, poses);
+  JointFrameData data = GtPoseFrameData(capture, &reader, frame);
   std::vector<ViewTruth> truth;
   // GT sparse correspondences stand in for the temporal tracks (measured in
   // features/temporal_tracks_test.cc, precision 0.98).
@@ -134,10 +138,7 @@ TEST_F(JointViewSynthTest, OccluderMarginRemovesSwappedPoseClaims) {
   const Capture capture = ReadCapture(*dir_);
   FrameReader reader(capture);
   const int frame = 1;
-  std::vector<std::vector<Pose3d>> poses(capture.num_frames);
-  for (int f = 0; f < capture.num_frames; ++f)
-    poses[f] = ReadPoses3d(capture.root / layout::GtJoints3d(f));
-  const JointFrameData data = ReadJointFrameData(capture, &reader, frame, poses);
+  const JointFrameData data = GtPoseFrameData(capture, &reader, frame);
   double scale = 0;
   const std::vector<JointViewInput> inputs = MakeJointViewInputs(data, {}, &scale);
   const auto count = [&](double occluder_limb_radius_m, int* swapped, int* right) {
