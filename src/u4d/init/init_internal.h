@@ -6,6 +6,7 @@
 #include <opencv2/core.hpp>
 
 #include "u4d/init/init.h"
+#include "u4d/util/check.h"
 
 namespace u4d {
 
@@ -14,6 +15,18 @@ inline double LabDistance(const cv::Vec3b& a, const cv::Vec3b& b) {
   const double d1 = static_cast<double>(a[1]) - b[1];
   const double d2 = static_cast<double>(a[2]) - b[2];
   return std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+}
+
+// The input check of the steps that take an image and its foreground mask:
+// `function` names the caller in the error.
+inline void CheckImageAndForeground(const char* function, const cv::Mat& image_bgr,
+                                    const cv::Mat& foreground) {
+  U4D_CHECK(!image_bgr.empty() && image_bgr.type() == CV_8UC3,
+            "{}: expected a non-empty BGR image (CV_8UC3)", function);
+  U4D_CHECK(
+      !foreground.empty() && foreground.type() == CV_8UC1 && foreground.size() == image_bgr.size(),
+      "{}: foreground must be CV_8UC1 of the image's size {}x{}", function, image_bgr.cols,
+      image_bgr.rows);
 }
 
 // ForegroundMask (step 2) of an image already in 8-bit Lab (sizes checked by the caller).

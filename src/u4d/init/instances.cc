@@ -162,12 +162,7 @@ std::vector<PersonBox> DetectPeople(const cv::Mat& image_bgr, const InitOptions&
 cv::Mat AddDetectedPeople(const cv::Mat& image_bgr, const cv::Mat& foreground,
                           const std::vector<PersonBox>& boxes, const InitOptions& options) {
   options.Check();
-  U4D_CHECK(!image_bgr.empty() && image_bgr.type() == CV_8UC3,
-            "AddDetectedPeople: expected a non-empty BGR image (CV_8UC3)");
-  U4D_CHECK(
-      !foreground.empty() && foreground.type() == CV_8UC1 && foreground.size() == image_bgr.size(),
-      "AddDetectedPeople: foreground must be CV_8UC1 of the image's size {}x{}", image_bgr.cols,
-      image_bgr.rows);
+  CheckImageAndForeground("AddDetectedPeople", image_bgr, foreground);
   cv::Mat out = foreground.clone();
   if (options.grabcut_box_iterations <= 0) return out;
   const cv::Rect image_rect(0, 0, image_bgr.cols, image_bgr.rows);
@@ -217,12 +212,7 @@ cv::Mat AddDetectedPeople(const cv::Mat& image_bgr, const cv::Mat& foreground,
 cv::Mat SplitInstances(const cv::Mat& image_bgr, const cv::Mat& foreground,
                        const std::vector<PersonBox>& boxes, const InitOptions& options) {
   options.Check();
-  U4D_CHECK(!image_bgr.empty() && image_bgr.type() == CV_8UC3,
-            "SplitInstances: expected a non-empty BGR image (CV_8UC3)");
-  U4D_CHECK(
-      !foreground.empty() && foreground.type() == CV_8UC1 && foreground.size() == image_bgr.size(),
-      "SplitInstances: foreground must be CV_8UC1 of the image's size {}x{}", image_bgr.cols,
-      image_bgr.rows);
+  CheckImageAndForeground("SplitInstances", image_bgr, foreground);
   // Components of the foreground dilated by group_radius: fragments of one
   // person (split by a belt, a shadow-suppressed stripe) stay together.
   cv::Mat labels;

@@ -33,12 +33,7 @@ cv::Mat RemoveGhosts(const cv::Mat& image_bgr, const cv::Mat& foreground,
                      const BackgroundModel& background, const InitOptions& options,
                      cv::Mat* ghosts) {
   options.Check();
-  U4D_CHECK(!image_bgr.empty() && image_bgr.type() == CV_8UC3,
-            "RemoveGhosts: expected a non-empty BGR image (CV_8UC3)");
-  U4D_CHECK(
-      !foreground.empty() && foreground.type() == CV_8UC1 && foreground.size() == image_bgr.size(),
-      "RemoveGhosts: foreground must be CV_8UC1 of the image's size {}x{}", image_bgr.cols,
-      image_bgr.rows);
+  CheckImageAndForeground("RemoveGhosts", image_bgr, foreground);
   U4D_CHECK(!background.Empty() && background.lab.size() == image_bgr.size(),
             "RemoveGhosts: the background is {}x{}, the image {}x{}", background.Width(),
             background.Height(), image_bgr.cols, image_bgr.rows);
@@ -82,12 +77,7 @@ cv::Mat RemoveGhosts(const cv::Mat& image_bgr, const cv::Mat& foreground,
 cv::Mat FillStillSubjects(const cv::Mat& image_bgr, const cv::Mat& foreground,
                           const BackgroundModel& background, const InitOptions& options) {
   options.Check();
-  U4D_CHECK(!image_bgr.empty() && image_bgr.type() == CV_8UC3,
-            "FillStillSubjects: expected a non-empty BGR image (CV_8UC3)");
-  U4D_CHECK(
-      !foreground.empty() && foreground.type() == CV_8UC1 && foreground.size() == image_bgr.size(),
-      "FillStillSubjects: foreground must be CV_8UC1 of the image's size {}x{}", image_bgr.cols,
-      image_bgr.rows);
+  CheckImageAndForeground("FillStillSubjects", image_bgr, foreground);
   if (options.still_grabcut_iterations <= 0 || background.envelope.empty())
     return foreground.clone();
   U4D_CHECK(background.envelope.size() == image_bgr.size() && background.envelope.type() == CV_8UC1,
