@@ -23,6 +23,11 @@ void TrackOptions::Check() const {
             max_depth_jump);
   U4D_CHECK(consistency_tolerance > 0, "TrackOptions.consistency_tolerance must be > 0, found {}",
             consistency_tolerance);
+  U4D_CHECK(refine_iterations >= 0, "TrackOptions.refine_iterations must be >= 0, found {}",
+            refine_iterations);
+  U4D_CHECK(flow_sigma_px > 0, "TrackOptions.flow_sigma_px must be > 0, found {}", flow_sigma_px);
+  U4D_CHECK(depth_sigma_rel > 0, "TrackOptions.depth_sigma_rel must be > 0, found {}",
+            depth_sigma_rel);
   U4D_CHECK(diffusion_iterations >= 0, "TrackOptions.diffusion_iterations must be >= 0, found {}",
             diffusion_iterations);
 }
@@ -65,8 +70,18 @@ Eigen::Vector2d SampleFlow(const cv::Mat& flow, const cv::Mat& ids, int object_i
   return f(xn, yn);
 }
 
-// Most consistent candidate, averaged with the candidates that agree with it.
-Eigen::Vector3d Consensus(const std::vector<Eigen::Vector3d>& c, double tol) {
+// One view's evidence on where a vertex is at t+1: it projects to `q` and
+// lies at depth `z1` there (the depth map at q plus the vertex's offset from
+// the surface at t).
+struct ViewObservation {
+  const Camera* camera_t1 = nullptr;
+  Eigen::Vector2d q;
+  double z1 = 0;
+};
+
+// Index of the most consistent candidate: the one with the most others
+// within tol (ties: the smaller spread).
+int MostConsistent(const std::vector<Eigen::Vector3d>& c, double tol) {
   int best = -1, best_n = -1;
   double best_spread = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < c.size(); ++i) {
@@ -85,14 +100,49 @@ Eigen::Vector3d Consensus(const std::vector<Eigen::Vector3d>& c, double tol) {
       best_spread = spread;
     }
   }
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  int n = 0;
-  for (const Eigen::Vector3d& x : c)
-    if ((x - c[best]).norm() <= tol) {
-      sum += x;
-      ++n;
+  return best;
+}
+
+// Iteratively reweighted Gauss-Newton from y on the sum over views of
+// rho(|Project(y) - q|^2 / sigma_px^2 + (Depth(y) - z1)^2 / (sigma_rel z1)^2)
+// with Huber's rho (threshold kHuber standard deviations), so a view whose
+// flow disagrees with the others loses its weight. Jacobians by central
+// differences (the cameras may be distorted).
+Eigen::Vector3d RefineByReprojection(Eigen::Vector3d y, const std::vector<ViewObservation>& obs,
+                                     const TrackOptions& o) {
+  constexpr double kStep = 1e-4;  // metres
+  constexpr double kHuber = 2.0;
+  const double wp = 1.0 / (o.flow_sigma_px * o.flow_sigma_px);
+  for (int it = 0; it < o.refine_iterations; ++it) {
+    Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    for (const ViewObservation& ob : obs) {
+      const Camera& cam = *ob.camera_t1;
+      Eigen::Matrix3d J;  // rows: u, v, z
+      for (int k = 0; k < 3; ++k) {
+        Eigen::Vector3d a = y, b = y;
+        a[k] += kStep;
+        b[k] -= kStep;
+        J.block<2, 1>(0, k) = (cam.Project(a) - cam.Project(b)) / (2 * kStep);
+        J(2, k) = (cam.Depth(a) - cam.Depth(b)) / (2 * kStep);
+      }
+      Eigen::Vector3d r;
+      r.head<2>() = cam.Project(y) - ob.q;
+      r[2] = cam.Depth(y) - ob.z1;
+      if (!r.allFinite() || !J.allFinite()) continue;
+      const double wz = 1.0 / std::pow(o.depth_sigma_rel * ob.z1, 2);
+      const double norm = std::sqrt(r.head<2>().squaredNorm() * wp + r[2] * r[2] * wz);
+      const double robust = norm <= kHuber ? 1.0 : kHuber / norm;
+      const Eigen::Vector3d w = robust * Eigen::Vector3d(wp, wp, wz);
+      H += J.transpose() * w.asDiagonal() * J;
+      g += J.transpose() * w.asDiagonal() * r;
     }
-  return sum / n;
+    const Eigen::Vector3d step = H.ldlt().solve(-g);
+    if (!step.allFinite()) break;
+    y += step;
+    if (step.norm() < 1e-6) break;
+  }
+  return y;
 }
 
 }  // namespace
@@ -118,16 +168,21 @@ TrackResult TrackVertices(const std::vector<Eigen::Vector3d>& vertices,
   r.candidates.assign(nv, 0);
   std::vector<Eigen::Vector3d> disp(nv, Eigen::Vector3d::Zero());
   std::vector<Eigen::Vector3d> cand;
+  std::vector<ViewObservation> obs;
   for (int i = 0; i < nv; ++i) {
     const Eigen::Vector3d& x = vertices[i];
     cand.clear();
+    obs.clear();
     for (const SceneFlowView& v : views) {
       const Eigen::Vector2d p = v.camera_t.Project(x);
       if (!std::isfinite(p.x()) || !v.camera_t.InImage(p)) continue;
       if (!v.instances_t.empty() && SampleId(v.instances_t, p) != object_id) continue;
       const double d0 =
           SampleObjectDepth(v.depth_t, v.instances_t, object_id, p, options.max_depth_jump);
-      if (d0 <= 0 || std::abs(v.camera_t.Depth(x) - d0) > options.visibility_tolerance) continue;
+      const double z = v.camera_t.Depth(x);
+      if (d0 <= 0 ||
+          std::abs(z - d0) > options.visibility_tolerance + 2 * options.depth_sigma_rel * z)
+        continue;
       const Eigen::Vector2d q = p + SampleFlow(v.flow, v.instances_t, object_id, p);
       if (!std::isfinite(q.x()) || !v.camera_t1.InImage(q)) continue;
       if (!v.instances_t1.empty() && SampleId(v.instances_t1, q) != object_id) continue;
@@ -135,10 +190,23 @@ TrackResult TrackVertices(const std::vector<Eigen::Vector3d>& vertices,
           SampleObjectDepth(v.depth_t1, v.instances_t1, object_id, q, options.max_depth_jump);
       if (d1 <= 0) continue;
       cand.push_back(v.camera_t1.Unproject(q, d1) - v.camera_t.Unproject(p, d0));
+      obs.push_back({&v.camera_t1, q, d1 + v.camera_t.Depth(x) - d0});
     }
     r.candidates[i] = static_cast<int>(cand.size());
     if (cand.empty()) continue;
-    disp[i] = Consensus(cand, options.consistency_tolerance);
+    // The mean of the candidates that agree with the most consistent one,
+    // refined by all the views' reprojections (robustly weighted).
+    const int best = MostConsistent(cand, options.consistency_tolerance);
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    int agree = 0;
+    for (const Eigen::Vector3d& c : cand)
+      if ((c - cand[best]).norm() <= options.consistency_tolerance) {
+        sum += c;
+        ++agree;
+      }
+    disp[i] = sum / static_cast<double>(agree);
+    if (options.refine_iterations > 0)
+      disp[i] = RefineByReprojection(x + disp[i], obs, options) - x;
     r.tracked[i] = 1;
     ++r.num_tracked;
   }

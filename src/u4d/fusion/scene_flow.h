@@ -7,22 +7,28 @@
 // frame t+1. For every view and every vertex X:
 //   visible  project X with the camera at t to pixel p (inside the image);
 //            the object's depth at t at p (bilinear, depth_sampling.h) d0
-//            must be known and |z(X) - d0| <= visibility_tolerance, and the
-//            instance at t at p must be object_id (when ids are given);
+//            must be known and |z(X) - d0| <= visibility_tolerance + 2
+//            depth_sigma_rel z(X) (the depth maps' own error must not hide a
+//            vertex), and the instance at t at p must be object_id (when ids
+//            are given);
 //   moved    q = p + flow(p) (flow t -> t+1, bilinear); the object's depth
 //            at t+1 at q, d1, must be known and the instance at t+1 at q
 //            must be object_id (otherwise the view gives no candidate);
 //   candidate displacement = Unproject_{t+1}(q, d1) - Unproject_t(p, d0),
 //            so a vertex slightly off the depth surface keeps its offset.
-// The vertex's displacement is the most consistent candidate: the one with
-// the most other candidates within consistency_tolerance, averaged with
-// those (ties: the smaller spread). Vertices without a candidate (hidden
-// everywhere, or inconsistent flow) are "interpolated": their displacement
-// comes from the mesh neighbours by iterative Laplacian diffusion (Jacobi
-// iterations of "mean of the neighbours' displacements", tracked vertices
-// fixed, starting from the nearest tracked vertex's displacement along the
-// mesh). A connected component without any tracked vertex keeps a zero
-// displacement.
+// The views that agree are those whose candidates lie within
+// consistency_tolerance of the most consistent candidate (the one with the
+// most others that close; ties: the smaller spread). The displacement is the
+// mean of their candidates, refined (refine_iterations > 0) by Gauss-Newton
+// on the agreeing views' reprojections: y at t+1 must project to q in each
+// (sigma flow_sigma_px) and lie at d1 + (z(X) - d0) along each optical axis
+// (sigma depth_sigma_rel * depth). With two or more views the flows
+// triangulate the motion, so the per-frame noise of the depth maps (solved
+// independently each frame) weighs little where the flows agree. Vertices without a candidate
+// (hidden everywhere, or inconsistent flow) are "interpolated": their displacement comes from the
+// mesh neighbours by iterative Laplacian diffusion (Jacobi iterations of "mean of the neighbours'
+// displacements", tracked vertices fixed, starting from the nearest tracked vertex's displacement
+// along the mesh). A connected component without any tracked vertex keeps a zero displacement.
 //
 // TrackSegment applies TrackVertices frame after frame from a key-frame mesh:
 // one topology (triangles, colours, label) moving in time.
@@ -61,11 +67,16 @@ struct SceneFlowView {
 };
 
 struct TrackOptions {
-  double visibility_tolerance = 0.03;   // metres between vertex depth and the depth map at t
+  double visibility_tolerance = 0.03;   // metres between vertex depth and the depth map at t,
+                                        // plus 2 depth_sigma_rel of the depth
   double max_depth_jump = 0.05;         // metres; bilinear depth only across smaller steps
   double consistency_tolerance = 0.02;  // metres; candidates this close agree
-  int diffusion_iterations = 100;       // Jacobi iterations for untracked vertices
-  void Check() const;                   // throws u4d::Error naming the bad field
+  int refine_iterations = 3;            // Gauss-Newton steps on the reprojections (0 = off)
+  double flow_sigma_px = 0.5;  // expected flow error, pixels (joint flow EPE on people 0.25-0.65)
+  double depth_sigma_rel = 0.01;   // expected depth error, fraction of the depth (about half the
+                                   // joint depths are within 1 %)
+  int diffusion_iterations = 100;  // Jacobi iterations for untracked vertices
+  void Check() const;              // throws u4d::Error naming the bad field
 };
 
 struct TrackResult {
