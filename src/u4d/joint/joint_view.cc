@@ -124,7 +124,11 @@ struct Problem {
   }
   // The pairwise terms with the motions given as vectors (pixels): the label
   // and depth part (E_c, E_s) plus E_r, in this order (the blocks cache the
-  // part their factor does not change, which gives the same sums).
+  // part their factor does not change, which gives the same sums). Pixels
+  // outside the region of interest are background with no depth or motion
+  // estimated: a pair with one of them has E_c only (E_s against their
+  // placeholder depth U would cost the most at every region border, and
+  // made the border ring switch to a person label where contrast is low).
   double PairV(int p, int q, int lp, int lq, int dp, int dq, const Eigen::Vector2f& mp,
                const Eigen::Vector2f& mq) const {
     return PairLabelDepth(p, q, lp, lq, dp, dq) + PairMotion(p, q, lp, lq, mp, mq);
@@ -133,7 +137,7 @@ struct Problem {
     double e = 0;
     if (lp != lq) {
       if (t().contrast) e += contrast[Direction(p, q, width)][p];
-    } else if (t().smooth) {
+    } else if (t().smooth && grid.IsActive(p) && grid.IsActive(q)) {
       e += w().smooth * w().smooth_spatial * DepthPair(dp, dq);
     }
     return e;
@@ -141,7 +145,7 @@ struct Problem {
   double PairMotion(int p, int q, int lp, int lq, const Eigen::Vector2f& mp,
                     const Eigen::Vector2f& mq) const {
     double e = 0;
-    if (t().motion_reg) {
+    if (t().motion_reg && grid.IsActive(p) && grid.IsActive(q)) {
       double wr = 0.5 * (reg_weight[p] + reg_weight[q]);
       if (o->motion_reg_edge_aware) wr *= reg_edge[Direction(p, q, width)][p];
       const auto rho = [&] {
