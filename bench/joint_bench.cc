@@ -217,9 +217,7 @@ int main(int argc, char** argv) try {
 
   const Capture capture = ReadCapture(dir);
   FrameReader reader(capture);
-  std::vector<std::vector<Pose3d>> poses(capture.num_frames);
-  for (int f = 0; f < capture.num_frames; ++f)
-    poses[f] = ReadPoses3d(capture.root / layout::GtJoints3d(f));
+  const std::vector<std::vector<Pose3d>> poses = ReadGtPoses3d(capture);
 
   std::vector<std::string> methods = {"full"};
   if (args.ablations)

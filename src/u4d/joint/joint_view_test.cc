@@ -33,9 +33,7 @@ class JointViewSynthTest : public ::testing::Test {
   // estimated ones (pose/ measures its own accuracy: 27 mm MPJPE on this
   // preset); the sparse motions are left empty.
   static JointFrameData GtPoseFrameData(const Capture& capture, FrameReader* reader, int frame) {
-    std::vector<std::vector<Pose3d>> poses(capture.num_frames);
-    for (int f = 0; f < capture.num_frames; ++f)
-      poses[f] = ReadPoses3d(capture.root / layout::GtJoints3d(f));
+    const std::vector<std::vector<Pose3d>> poses = ReadGtPoses3d(capture);
     return ReadJointFrameData(capture, reader, frame, poses);
   }
   static fs::path* dir_;
@@ -193,9 +191,7 @@ TEST(JointViewRoiTest, RegionBorderStaysBackground) {
   const fs::path dir = synth::WriteCaptureToTempDir("joint_view_roi", o);
   const Capture capture = ReadCapture(dir);
   FrameReader reader(capture);
-  std::vector<std::vector<Pose3d>> poses(capture.num_frames);
-  for (int f = 0; f < capture.num_frames; ++f)
-    poses[f] = ReadPoses3d(capture.root / layout::GtJoints3d(f));
+  const std::vector<std::vector<Pose3d>> poses = ReadGtPoses3d(capture);
   const JointFrameData data = ReadJointFrameData(capture, &reader, 0, poses);
   double scale = 0;
   const std::vector<JointViewInput> inputs = MakeJointViewInputs(data, {}, &scale);

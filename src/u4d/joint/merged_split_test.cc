@@ -49,9 +49,7 @@ TEST_F(MergedSplitTest, FullMethodSplitsMergedPeopleInMostViews) {
   const Capture capture = ReadCapture(*dir_);
   FrameReader reader(capture);
   // GT 3D poses stand in for the estimated ones (pose/ measures its own accuracy).
-  std::vector<std::vector<Pose3d>> poses(capture.num_frames);
-  for (int f = 0; f < capture.num_frames; ++f)
-    poses[f] = ReadPoses3d(capture.root / layout::GtJoints3d(f));
+  const std::vector<std::vector<Pose3d>> poses = ReadGtPoses3d(capture);
   JointFrameData data = ReadJointFrameData(capture, &reader, kFrame, poses);
   std::vector<ViewTruth> truth;
   for (int v = 0; v < capture.NumViews(); ++v) {

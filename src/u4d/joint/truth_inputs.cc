@@ -10,6 +10,13 @@
 
 namespace u4d {
 
+std::vector<std::vector<Pose3d>> ReadGtPoses3d(const Capture& capture) {
+  std::vector<std::vector<Pose3d>> poses(capture.num_frames);
+  for (int f = 0; f < capture.num_frames; ++f)
+    poses[f] = ReadPoses3d(capture.root / layout::GtJoints3d(f));
+  return poses;
+}
+
 ViewTruth ReadViewTruth(const Capture& capture, int view, int frame) {
   const std::string& name = capture.views.at(view).name;
   ViewTruth t;

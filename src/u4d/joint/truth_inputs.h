@@ -10,6 +10,7 @@
 
 #include "u4d/io/capture.h"
 #include "u4d/io/instance_mask.h"
+#include "u4d/io/poses.h"
 #include "u4d/joint/motion_labels.h"
 
 namespace u4d {
@@ -20,6 +21,10 @@ struct ViewTruth {
   cv::Mat depth, flow, flow_valid;  // CV_32F z, CV_32FC2, CV_8U
 };
 ViewTruth ReadViewTruth(const Capture& capture, int view, int frame);
+
+// The GT 3D poses of every frame (layout.h GtJoints3d), indexed by frame: the
+// stand-in for the estimated poses (pose/ measures its own accuracy).
+std::vector<std::vector<Pose3d>> ReadGtPoses3d(const Capture& capture);
 
 // The truth at another resolution (a working resolution): ids, depth and
 // validity by nearest neighbour, the flow resampled the same way and
