@@ -8,6 +8,7 @@
 #   scripts/results.sh [--quick] [--only a,b,...] [--out FILE] [--no-build]
 #                      [--speed-views "4 8"] [--speed-sizes "480x270 960x540"]
 #                      [--speed-frames N] [--length-frames "30 100 300"] [--keep]
+#                      [--scale-sizes "480x270 960x540"] [--long-frames N]
 #
 # Run from anywhere; works in the repository root. The build directory is
 # $BUILD (default `build`), configured as Release if it does not exist.
@@ -33,6 +34,9 @@
 #   --length-frames  the sequence-length section: `u4d run` on 4 views at
 #                   160x90 for each of these frame counts (time per frame and
 #                   peak memory must stay flat); section id: length.
+#   --scale-sizes "WxH ..."  the image sizes of the scaling section's second
+#                   curve (4 views; default 160x90 640x360 quick, 480x270
+#                   960x540 1920x1080 full).
 #   --long-frames N  the long-sequence section (id: long): each scenario as
 #                   one N-frame capture through `u4d run` and `u4d eval`
 #                   (default 100 in both modes; about an hour at 100).
@@ -55,8 +59,9 @@ SPEED_SIZES=""
 SPEED_FRAMES=""
 LENGTH_FRAMES=""
 LONG_FRAMES=""
+SCALE_SIZES=""
 
-usage() { sed -n '2,32p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,/^set -uo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --quick) MODE=quick ;;
@@ -70,6 +75,7 @@ while [[ $# -gt 0 ]]; do
     --speed-frames) SPEED_FRAMES=$2; shift ;;
     --length-frames) LENGTH_FRAMES=$2; shift ;;
     --long-frames) LONG_FRAMES=$2; shift ;;
+    --scale-sizes) SCALE_SIZES=$2; shift ;;
     -h|--help) usage; exit 0 ;;
     *) echo "results.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
@@ -93,7 +99,8 @@ if [[ $MODE == quick ]]; then
   SCEN_ARGS=(--frames 3 --views 4 --width 320 --height 180)
   RECON_ARGS=(--views 8 --width 320 --height 180 --working-width 320 --frames 3 --methods full,P_P)
   ABL_RUN_ARGS=(--working-width 160)
-  SCALE_VIEWS="4 8 16" SCALE_VIEW_SIZE=160x90 SCALE_SIZES="160x90 640x360" SCALE_FRAMES=2
+  SCALE_VIEWS="4 8 16" SCALE_VIEW_SIZE=160x90 SCALE_FRAMES=2
+  : "${SCALE_SIZES:=160x90 640x360}"
 else
   JOINT_ARGS=(--frames 3 --max-views 4)
   SPARSE_ARGS=(10 2.0)
@@ -107,7 +114,8 @@ else
   SCEN_ARGS=(--frames 10 --views 8 --width 480 --height 270)
   RECON_ARGS=(--views 8 --frames 3 --methods full,P_M,P_P,P_S)
   ABL_RUN_ARGS=(--frames 4)
-  SCALE_VIEWS="4 8 16" SCALE_VIEW_SIZE=480x270 SCALE_SIZES="480x270 960x540 1920x1080" SCALE_FRAMES=2
+  SCALE_VIEWS="4 8 16" SCALE_VIEW_SIZE=480x270 SCALE_FRAMES=2
+  : "${SCALE_SIZES:=480x270 960x540 1920x1080}"
 fi
 # Scenarios: name -> synth arguments. walk: the handshake script's first
 # frames, the two walking towards each other (centimetres per frame); the
@@ -390,6 +398,11 @@ fi
 SCRIPT_WALL=$(($(date +%s) - SCRIPT_T0))
 
 # ---- assemble docs/results.md --------------------------------------------------
+# jq helpers for eval.json: r3 rounds to 3 decimals, mm / drift format metres.
+JQ_DEFS='def r3: if . == null then "" else (. * 1000 | round / 1000 | tostring) end;
+  def mm: if . == null then "" else (. * 10000 | round / 10 | tostring) end;
+  def drift: if .vertex_drift.last_frame_drift_m == null then "" else
+    "\(.vertex_drift.last_frame_drift_m | mm) (\(.vertex_drift.last_frame_motion_m | mm))" end;'
 joint_section() {  # joint_section HEADING: a table of the joint_bench run + provenance
   if [[ -f $WORK/joint.meta ]]; then
     md_table joint "$1"
@@ -418,7 +431,8 @@ EOF
 **This is a \`--quick\` run** ($(date -u '+%Y-%m-%d')): the benches that take
 sizes ran on small inputs (joint_bench 4 views 320x180 with 2 views solved,
 sparse_bench 2 frames, keyframes_bench 32 frames, the fewest Google
-Benchmark repetitions, \`u4d run\` on ${SPEED_VIEWS// /, } views ${SPEED_SIZES// /, } x ${SPEED_FRAMES} frames),
+Benchmark repetitions, \`u4d run\` on ${SPEED_VIEWS// /, } views ${SPEED_SIZES// /, } x ${SPEED_FRAMES} frames;
+the long-sequence section runs its ${LONG_FRAMES} frames in both modes),
 so its numbers are noisier than and not comparable with docs/*.md; run
 \`scripts/results.sh\` (no option) for the sizes the docs quote.
 
@@ -500,6 +514,15 @@ EOF
         "\(.instances.mean_instance_iou * 1000 | round / 1000), \(.silhouette_overlap_error.value * 1000 | round / 1000)"' \
         "$WORK/$id.eval.json"), $(jq -r '"\([.stages[].seconds] | add | round) s, \([.stages[].peak_rss_mb] | max | round) MB"' \
         "$WORK/$id.run.json") | Speed |"
+    fi
+  done
+  for id in "${LONG_IDS[@]}"; do
+    if [[ -f $WORK/$id.run.json && -f $WORK/$id.eval.json ]]; then
+      echo "| \`u4d run\` on a ${LONG_FRAMES}-frame ${id#long_}: IoU, S_e, vertex drift mm (true motion), s per frame, peak MB |" \
+        "initial IoU $(jq -r "$JQ_DEFS"' .instances.mean_instance_iou | r3' "$WORK/$id.initial.json");" \
+        "S_e DeepFlow $(jq -r "$JQ_DEFS"' .silhouette_overlap_error_baselines.deepflow.value | r3' "$WORK/$id.eval.json") |" \
+        "$(jq -r "$JQ_DEFS"' "\(.instances.mean_instance_iou | r3), \(.silhouette_overlap_error.value | r3), \(drift)"' "$WORK/$id.eval.json")," \
+        "$(jq -r '"\(([.stages[].seconds] | add) / ([.stages[] | select(.name == "segments") | .items] | add) * 10 | round / 10) s, \([.stages[].peak_rss_mb] | max | round) MB"' "$WORK/$id.run.json") | Long sequences |"
     fi
   done
   echo
@@ -733,11 +756,6 @@ EOF
     if [[ -f $WORK/synth.meta ]]; then raw synth; provenance synth; fi
   fi
 
-  # jq helpers for eval.json: r3 rounds to 3 decimals, mm / drift format metres.
-  JQ_DEFS='def r3: if . == null then "" else (. * 1000 | round / 1000 | tostring) end;
-    def mm: if . == null then "" else (. * 10000 | round / 10 | tostring) end;
-    def drift: if .vertex_drift.last_frame_drift_m == null then "" else
-      "\(.vertex_drift.last_frame_drift_m | mm) (\(.vertex_drift.last_frame_motion_m | mm))" end;'
   if want scenarios && [[ ${#SCEN_IDS[@]} -gt 0 ]]; then
     cat <<EOF
 ## End to end on the scenarios (paper Tables "Segmentation comparison", "Reconstruction evaluation", "Silhouette overlap error")
@@ -1020,9 +1038,9 @@ Tables and rows of the paper with no counterpart in this repository yet:
   PSPNet (segmentation); DCFlow, 4DMatch (flow). Measured instead: the
   baselines named in each section (plus OpenCV SGBM on rectified pairs,
   median-fused, in the depth table, and SGBM / BM on Middlebury).
-- **Scale**: the scaling section runs 16 views and 1920x1080 (full run)
-  for 2 frames (no evaluation); the length section goes to 300 frames only in
-  the full run, at 160x90.
+- **Accuracy at scale**: the scaling and length sections measure time and
+  memory only (no evaluation); accuracy is measured at the sizes of the
+  scenario and long-sequence sections.
 - The optional GPL comparison `mrf_libmaxflow_bench` (off by default).
 EOF
 } >"$OUT"
