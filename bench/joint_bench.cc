@@ -86,6 +86,8 @@ struct Args {
   bool semantic_temporal = false;  // JointViewOptions::semantic_temporal = true
   bool pose_3d_own_label = false;  // PosePriorOptions::shape_own_label_only = true
   double occluder_limb = -1;       // PosePriorOptions::occluder_limb_radius_m (-1 = default)
+  int appearance_refits = -1;      // JointViewOptions::appearance_refits (-1 = default)
+  int appearance_inset = -1;       // LabelCostOptions::appearance_inset_px (-1 = default)
   std::string dump;  // folder: per view-frame labels, depth, truth and pose map (diagnosis)
 };
 
@@ -143,6 +145,10 @@ Args ParseArgs(int argc, char** argv) {
       a.semantic_temporal = true;
     else if (k == "--occluder-limb-radius")
       a.occluder_limb = std::stod(next());
+    else if (k == "--appearance-refits")
+      a.appearance_refits = std::stoi(next());
+    else if (k == "--appearance-inset")
+      a.appearance_inset = std::stoi(next());
     else
       throw Error(fmt::format(
           "joint_bench: unknown argument '{}' (expected --views, --width, --height, --frames, "
@@ -260,6 +266,8 @@ int main(int argc, char** argv) try {
     options.motion_reg_quadratic = !args.reg_linear;
     options.motion_reg_edge_aware = args.reg_edge;
     options.pose.shape_own_label_only = args.pose_3d_own_label;
+    if (args.appearance_refits >= 0) options.appearance_refits = args.appearance_refits;
+    if (args.appearance_inset >= 0) options.labels.appearance_inset_px = args.appearance_inset;
     options.semantic_temporal = args.semantic_temporal;
     if (args.occluder_limb >= 0) options.pose.occluder_limb_radius_m = args.occluder_limb;
     if (args.reg_boundary == "free")

@@ -218,6 +218,15 @@ struct LabelBlock : mrf::GridEnergy {
     return pr.PairV(p, q, lp, lq, pr.d[p], pr.d[q], pr.mv[p], pr.mv[q]);
   }
 };
+// The label unaries and E_c alone (the appearance refits, before d and m exist).
+struct LabelOnlyEnergy : mrf::GridEnergy {
+  const Problem& pr;
+  explicit LabelOnlyEnergy(const Problem& p) : pr(p) {}
+  double Unary(int p, int label) const override { return pr.LabelUnary(p, label); }
+  double Pairwise(int p, int q, int lp, int lq) const override {
+    return lp != lq && pr.t().contrast ? pr.contrast[Direction(p, q, pr.width)][p] : 0.0;
+  }
+};
 // Needs pr.FillPairCache(kMotion) at the current l and mv.
 struct DepthBlock : mrf::GridEnergy {
   const Problem& pr;
@@ -371,6 +380,8 @@ void JointViewOptions::Check() const {
   U4D_CHECK(depth_truncation > 0, "JointViewOptions.depth_truncation must be > 0");
   U4D_CHECK(motion_truncation_px > 0, "JointViewOptions.motion_truncation_px must be > 0");
   U4D_CHECK(roi_margin_px >= 0, "JointViewOptions.roi_margin_px must be >= 0");
+  U4D_CHECK(appearance_refits >= 0, "JointViewOptions.appearance_refits must be >= 0, got {}",
+            appearance_refits);
   fusion.Check();
 }
 
@@ -419,7 +430,7 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
   // ---- Label unaries: E_a, E_sem, E_p (2D label part).
   std::vector<LabelledImage> training = in.appearance_training;
   if (training.empty()) training.push_back({in.images_t[v], in.initial_labels});
-  const LabelCostVolume appearance =
+  LabelCostVolume appearance =
       AppearanceCosts(in.images_t[v], training, in.num_labels, in.markers, o.labels);
   const LabelCostVolume semantic =
       SemanticCosts(o.semantic_temporal ? SemanticLabelMaps(in) : std::vector{in.initial_labels},
@@ -433,16 +444,19 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
   } else {
     pr.use_pose = false;
   }
-  pr.label_unary.assign(static_cast<size_t>(pr.n) * in.num_labels, 0.f);
-  tbb::parallel_for(0, pr.n, [&](int p) {
-    for (int l = 0; l < in.num_labels; ++l) {
-      double e = 0;
-      if (o.terms.appearance) e += o.weights.appearance * appearance.At(p, l);
-      if (o.terms.semantic) e += o.weights.semantic * semantic.At(p, l);
-      if (pr.use_pose) e += pr.pose_2d_share * PoseLabelCost(pr.pose, p, l);
-      pr.label_unary[static_cast<size_t>(p) * in.num_labels + l] = static_cast<float>(e);
-    }
-  });
+  const auto fill_label_unary = [&](const LabelCostVolume& appearance) {
+    pr.label_unary.assign(static_cast<size_t>(pr.n) * in.num_labels, 0.f);
+    tbb::parallel_for(0, pr.n, [&](int p) {
+      for (int l = 0; l < in.num_labels; ++l) {
+        double e = 0;
+        if (o.terms.appearance) e += o.weights.appearance * appearance.At(p, l);
+        if (o.terms.semantic) e += o.weights.semantic * semantic.At(p, l);
+        if (pr.use_pose) e += pr.pose_2d_share * PoseLabelCost(pr.pose, p, l);
+        pr.label_unary[static_cast<size_t>(p) * in.num_labels + l] = static_cast<float>(e);
+      }
+    });
+  };
+  fill_label_unary(appearance);
   end_phase("label unaries");
 
   // ---- Pairwise weights: E_c and the E_r weights.
@@ -464,6 +478,27 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
             : 0.0;
     pr.contrast[Direction(p, q, pr.width)][p] = static_cast<float>(o.weights.contrast * e);
     if (o.motion_reg_edge_aware) pr.reg_edge[Direction(p, q, pr.width)][p] = colour[i];
+  }
+  // Appearance refits (GrabCut's iteration, before the energy is fixed): the
+  // label-only energy (label unaries + E_c) is minimised, frame t's colour
+  // models are re-learnt from that labelling, and the unaries recomputed.
+  if (o.terms.appearance && o.appearance_refits > 0 && !training.empty()) {
+    std::vector<int> candidates(in.num_labels);
+    for (int i = 0; i < in.num_labels; ++i) candidates[i] = i;
+    mrf::ExpansionOptions eo;
+    eo.max_sweeps = o.sweeps_per_block;
+    eo.algorithm = o.algorithm;
+    for (int it = 0; it < o.appearance_refits; ++it) {
+      std::vector<int> labels(pr.n);
+      for (int p = 0; p < pr.n; ++p) labels[p] = in.initial_labels.ptr<uint16_t>()[p];
+      mrf::AlphaExpansion(pr.grid, LabelOnlyEnergy(pr), candidates, &labels, eo);
+      cv::Mat refined(pr.height, pr.width, CV_16U);
+      for (int p = 0; p < pr.n; ++p) refined.ptr<uint16_t>()[p] = static_cast<uint16_t>(labels[p]);
+      training[0].labels = refined;
+      appearance = AppearanceCosts(in.images_t[v], training, in.num_labels, in.markers, o.labels);
+      fill_label_unary(appearance);
+    }
+    end_phase("appearance refits");
   }
   {
     const std::vector<float> spread_l = WindowSpread(semantic, in.initial_labels);

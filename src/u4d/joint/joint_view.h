@@ -123,6 +123,10 @@ struct JointViewOptions {
   bool semantic_temporal = false;
   FlowFusionOptions fusion;  // continuous flow proposals fused after the blocks
   int roi_margin_px = 8;     // dilation of the objects' regions (working pixels)
+  // Before the energy is fixed: minimise the label unaries + E_c alone and
+  // re-learn frame t's colour GMMs from that labelling, this many times
+  // (GrabCut's iteration; 0 = the GMMs of the initial masks, as the paper).
+  int appearance_refits = 1;
   mrf::MaxFlowAlgorithm algorithm = mrf::MaxFlowAlgorithm::kBoykovKolmogorov;
   void Check() const;
 };

@@ -181,6 +181,28 @@ GmmParameters TrainGmm(const cv::Mat& samples64, int k, int max_iters, double ep
   return g;
 }
 
+// Pixels at least `inset` px from their label's boundary (per label, a
+// morphological erosion); a label whose inside is too small to describe it
+// (under a quarter of its pixels or 32 pixels: a thin limb, a far person)
+// keeps all its pixels.
+cv::Mat SureSamplePixels(const cv::Mat& labels, int num_labels, int inset) {
+  cv::Mat sure(labels.size(), CV_8U, cv::Scalar(255));
+  if (inset <= 0) return sure;
+  const cv::Mat kernel =
+      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * inset + 1, 2 * inset + 1));
+  for (int l = 0; l < num_labels; ++l) {
+    const cv::Mat mask = labels == l;
+    const int area = cv::countNonZero(mask);
+    if (area == 0) continue;
+    cv::Mat inside;
+    cv::erode(mask, inside, kernel, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+    const int kept = cv::countNonZero(inside);
+    if (kept < 32 || 4 * kept < area) continue;
+    sure.setTo(0, mask & ~inside);
+  }
+  return sure;
+}
+
 }  // namespace
 
 double ColorGmm::LogLikelihood(const cv::Vec3b& bgr) const {
@@ -241,6 +263,8 @@ void LabelCostOptions::Check() const {
   U4D_CHECK(max_samples_per_label >= 16, "LabelCostOptions.max_samples_per_label must be >= 16");
   U4D_CHECK(background_band_px >= 1, "LabelCostOptions.background_band_px must be >= 1");
   U4D_CHECK(mask_softness_px > 0, "LabelCostOptions.mask_softness_px must be > 0");
+  U4D_CHECK(appearance_inset_px >= 0, "LabelCostOptions.appearance_inset_px must be >= 0, got {}",
+            appearance_inset_px);
   U4D_CHECK(min_probability > 0 && min_probability < 1,
             "LabelCostOptions.min_probability must be in (0, 1), got {}", min_probability);
 }
@@ -266,10 +290,11 @@ LabelCostVolume AppearanceCosts(const cv::Mat& image, const std::vector<Labelled
         objects, band,
         cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * options.background_band_px + 1,
                                                               2 * options.background_band_px + 1)));
+    const cv::Mat sure = SureSamplePixels(t.labels, num_labels, options.appearance_inset_px);
     for (int y = 0; y < image.rows; ++y)
       for (int x = 0; x < image.cols; ++x) {
         const int l = t.labels.at<uint16_t>(y, x);
-        if (l >= num_labels) continue;
+        if (l >= num_labels || !sure.at<uint8_t>(y, x)) continue;
         if (l == 0 && !band.at<uint8_t>(y, x)) continue;
         samples[l].push_back(t.image.at<cv::Vec3b>(y, x));
       }

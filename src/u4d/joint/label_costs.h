@@ -46,7 +46,11 @@ ColorGmm FitColorGmm(const std::vector<cv::Vec3b>& samples, int components, uint
 struct LabelCostOptions {
   int gmm_components = 10;           // paper: GMMs with 10 components
   int max_samples_per_label = 4000;  // colour samples used to fit a GMM (random subset)
-  int background_band_px = 25;    // background samples: within this distance of the ROI's objects
+  int background_band_px = 25;  // background samples: within this distance of the ROI's objects
+  // Colour samples only from pixels at least this far inside their label's
+  // initial mask (the band where a detector's mask boundary errs: a dilated
+  // mask's rim is background colour); 0 = every pixel.
+  int appearance_inset_px = 2;
   double mask_softness_px = 2.0;  // logistic scale of P_sem across a mask boundary (pixels)
   double min_probability =
       0.01;           // floor of P_sem and of the likelihood ratio (sets the normalisation)
