@@ -131,7 +131,7 @@ ABL_SCENARIO=walk
 # Long sequences: the scenarios as whole 100+ frame captures (the scripts are
 # stretched to the frame count: approach, handshake, step apart), 4 views at
 # 320x180 solved at width 160 so that three of them fit in about an hour.
-LONG_SCENARIOS="handshake meetup moving-cameras"
+LONG_SCENARIOS=${LONG_SCENARIOS:-handshake meetup moving-cameras}  # env override: a subset
 LONG_SYNTH_ARGS=(--views 4 --width 320 --height 180)
 LONG_RUN_ARGS=(--working-width 160)
 ABLATIONS="full P_M P_P P_PM P_S P_PS"
