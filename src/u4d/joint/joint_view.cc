@@ -488,13 +488,19 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
     mrf::ExpansionOptions eo;
     eo.max_sweeps = o.sweeps_per_block;
     eo.algorithm = o.algorithm;
+    // Frame t's entry of ψ_T (the one holding this view's image); added when
+    // the caller's list lacks it.
+    size_t frame_t = 0;
+    while (frame_t < training.size() && training[frame_t].image.data != in.images_t[v].data)
+      ++frame_t;
+    if (frame_t == training.size()) training.push_back({in.images_t[v], in.initial_labels});
     for (int it = 0; it < o.appearance_refits; ++it) {
       std::vector<int> labels(pr.n);
       for (int p = 0; p < pr.n; ++p) labels[p] = in.initial_labels.ptr<uint16_t>()[p];
       mrf::AlphaExpansion(pr.grid, LabelOnlyEnergy(pr), candidates, &labels, eo);
       cv::Mat refined(pr.height, pr.width, CV_16U);
       for (int p = 0; p < pr.n; ++p) refined.ptr<uint16_t>()[p] = static_cast<uint16_t>(labels[p]);
-      training[0].labels = refined;
+      training[frame_t].labels = refined;
       appearance = AppearanceCosts(in.images_t[v], training, in.num_labels, in.markers, o.labels);
       fill_label_unary(appearance);
     }
