@@ -190,7 +190,7 @@ TrackResult TrackVertices(const std::vector<Eigen::Vector3d>& vertices,
           SampleObjectDepth(v.depth_t1, v.instances_t1, object_id, q, options.max_depth_jump);
       if (d1 <= 0) continue;
       cand.push_back(v.camera_t1.Unproject(q, d1) - v.camera_t.Unproject(p, d0));
-      obs.push_back({&v.camera_t1, q, d1 + v.camera_t.Depth(x) - d0});
+      obs.push_back({&v.camera_t1, q, d1 + z - d0});
     }
     r.candidates[i] = static_cast<int>(cand.size());
     if (cand.empty()) continue;
