@@ -15,7 +15,8 @@
 //       [--reg-boundary free|discontinuity|ignore] [--weights '{"pose": 0.9}'] [--no-cross-view]
 //       [--reg-linear] [--no-reg-edge] [--force-merge] [--no-split-merged]
 //       [--per-view] [--dump DIR] [--pose-3d-own-label] [--semantic-temporal]
-//       [--occluder-limb-radius M]
+//       [--occluder-limb-radius M] [--appearance-refits N] [--appearance-inset PX]
+//       [--no-carry-depth]
 // --per-view: one line per method and view-frame (IoU, depth within 5 %, flow
 // EPE), for paired comparisons of the ablations. --dump DIR: per view-frame
 // f<frame>_v<view>_<name>: the initial, GT and each method's labels (16-bit
@@ -88,6 +89,7 @@ struct Args {
   double occluder_limb = -1;       // PosePriorOptions::occluder_limb_radius_m (-1 = default)
   int appearance_refits = -1;      // JointViewOptions::appearance_refits (-1 = default)
   int appearance_inset = -1;       // LabelCostOptions::appearance_inset_px (-1 = default)
+  bool carry_depth = true;         // JointViewOptions::label_moves_carry_depth
   std::string dump;  // folder: per view-frame labels, depth, truth and pose map (diagnosis)
 };
 
@@ -149,13 +151,16 @@ Args ParseArgs(int argc, char** argv) {
       a.appearance_refits = std::stoi(next());
     else if (k == "--appearance-inset")
       a.appearance_inset = std::stoi(next());
+    else if (k == "--no-carry-depth")
+      a.carry_depth = false;
     else
       throw Error(fmt::format(
           "joint_bench: unknown argument '{}' (expected --views, --width, --height, --frames, "
           "--start, --preset, --sparse, --no-ablations, --max-views, --working-width, --methods, "
           "--reg-boundary, --weights, --no-cross-view, --reg-linear, --no-reg-edge, --force-merge, "
           "--no-split-merged, --per-view, --dump, --pose-3d-own-label, "
-          "--semantic-temporal, --occluder-limb-radius)",
+          "--semantic-temporal, --occluder-limb-radius, --appearance-refits, "
+          "--appearance-inset, --no-carry-depth)",
           k));
   }
   U4D_CHECK(a.frames >= 3, "joint_bench: --frames must be >= 3 (frames 1..frames-2 are solved)");
@@ -269,6 +274,7 @@ int main(int argc, char** argv) try {
     if (args.appearance_refits >= 0) options.appearance_refits = args.appearance_refits;
     if (args.appearance_inset >= 0) options.labels.appearance_inset_px = args.appearance_inset;
     options.semantic_temporal = args.semantic_temporal;
+    options.label_moves_carry_depth = args.carry_depth;
     if (args.occluder_limb >= 0) options.pose.occluder_limb_radius_m = args.occluder_limb;
     if (args.reg_boundary == "free")
       options.motion_reg_boundary = MotionRegBoundary::kFree;
@@ -358,6 +364,9 @@ int main(int argc, char** argv) try {
       Timer timer;
       const cv::Mat grabcut = eval::GrabCutInstances(in.images_t[v], in.initial_labels);
       add_seg("grabcut", grabcut, timer.Seconds());
+      if (!args.dump.empty())
+        WriteImage((fs::path(args.dump) / fmt::format("f{}_v{}_grabcut_labels.png", frame, v)).string(),
+                   grabcut);
 
       cv::Mat full_roi;
       for (const std::string& m : methods) {

@@ -218,6 +218,57 @@ struct LabelBlock : mrf::GridEnergy {
     return pr.PairV(p, q, lp, lq, pr.d[p], pr.d[q], pr.mv[p], pr.mv[q]);
   }
 };
+// The label block with depth carried (JointViewOptions::label_moves_carry_depth):
+// a pixel keeps its depth while it keeps its block-start label, and takes
+// carried[l][p] (the depth of the nearest pixel that had label l at the block
+// start) when it takes another label l, so a moved boundary continues the
+// expanding region's surface. The depth is a function of the label, so this
+// is an energy over labels alone; DepthOf gives the depth to store after the
+// moves.
+struct LabelDepthBlock : mrf::GridEnergy {
+  const Problem& pr;
+  const std::vector<int>& start_labels;
+  const std::vector<std::vector<int>>& carried;  // [label][pixel]
+  LabelDepthBlock(const Problem& p, const std::vector<int>& l0,
+                  const std::vector<std::vector<int>>& c)
+      : pr(p), start_labels(l0), carried(c) {}
+  int DepthOf(int p, int label) const {
+    return label == start_labels[p] ? pr.d[p] : carried[label][p];
+  }
+  double Unary(int p, int label) const override {
+    const int dl = DepthOf(p, label);
+    return pr.LabelUnary(p, label) + pr.DepthOnlyUnary(p, dl) + pr.Pose3d(p, label, dl, pr.mv[p]);
+  }
+  double Pairwise(int p, int q, int lp, int lq) const override {
+    return pr.PairV(p, q, lp, lq, DepthOf(p, lp), DepthOf(q, lq), pr.mv[p], pr.mv[q]);
+  }
+};
+// Per label l, the depth label of the nearest pixel labelled l (Euclidean
+// distance, ties as OpenCV's distance transform breaks them); a label absent
+// from `labels` gets the unknown depth.
+std::vector<std::vector<int>> NearestLabelDepths(const Problem& pr, int num_labels) {
+  std::vector<std::vector<int>> carried(num_labels);
+  for (int l = 0; l < num_labels; ++l) {
+    cv::Mat not_l(pr.height, pr.width, CV_8U);
+    bool present = false;
+    for (int p = 0; p < pr.n; ++p) {
+      not_l.ptr<uint8_t>()[p] = pr.l[p] == l ? 0 : 255;
+      present |= pr.l[p] == l;
+    }
+    carried[l].assign(pr.n, pr.unknown);
+    if (!present) continue;
+    cv::Mat distance, nearest;  // nearest: index of the zero pixel, 1-based
+    cv::distanceTransform(not_l, distance, nearest, cv::DIST_L2, 3, cv::DIST_LABEL_PIXEL);
+    std::vector<int> pixel_of(pr.n + 1, -1);
+    for (int p = 0; p < pr.n; ++p)
+      if (pr.l[p] == l) pixel_of[nearest.ptr<int>()[p]] = p;
+    for (int p = 0; p < pr.n; ++p) {
+      const int source = pixel_of[nearest.ptr<int>()[p]];
+      if (source >= 0) carried[l][p] = pr.d[source];
+    }
+  }
+  return carried;
+}
 // The label unaries and E_c alone (the appearance refits, before d and m exist).
 struct LabelOnlyEnergy : mrf::GridEnergy {
   const Problem& pr;
@@ -621,7 +672,17 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
   for (int round = 0; round < o.rounds; ++round) {
     Timer block_timer;
     std::clock_t block_start = std::clock();
-    mrf::AlphaExpansion(pr.grid, LabelBlock(pr), label_candidates, &pr.l, eo);
+    if (o.label_moves_carry_depth && round > 0) {
+      const std::vector<int> start_labels = pr.l;
+      const std::vector<std::vector<int>> carried = NearestLabelDepths(pr, in.num_labels);
+      const LabelDepthBlock block(pr, start_labels, carried);
+      mrf::AlphaExpansion(pr.grid, block, label_candidates, &pr.l, eo);
+      std::vector<int> depth(pr.n);
+      for (int p = 0; p < pr.n; ++p) depth[p] = block.DepthOf(p, pr.l[p]);
+      pr.d = std::move(depth);
+    } else {
+      mrf::AlphaExpansion(pr.grid, LabelBlock(pr), label_candidates, &pr.l, eo);
+    }
     result.energy_trace.push_back({"labels", pr.Energy(), block_timer.Seconds()});
     block_seconds[0] += result.energy_trace.back().seconds;
     block_cpu[0] += cpu_since(block_start);

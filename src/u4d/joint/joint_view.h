@@ -127,6 +127,10 @@ struct JointViewOptions {
   // re-learn frame t's colour GMMs from that labelling, this many times
   // (GrabCut's iteration; 0 = the GMMs of the initial masks, as the paper).
   int appearance_refits = 1;
+  // Label moves after the first round change a pixel's depth with its label:
+  // a pixel that takes label l takes the depth of the nearest pixel labelled l
+  // (false: the label block moves labels at fixed depth).
+  bool label_moves_carry_depth = true;
   mrf::MaxFlowAlgorithm algorithm = mrf::MaxFlowAlgorithm::kBoykovKolmogorov;
   void Check() const;
 };
