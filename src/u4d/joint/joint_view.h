@@ -43,9 +43,12 @@
 // Solver: the product label space L × D × M is optimised by alternating
 // α-expansion over each factor with the others fixed (mrf/expansion.h): a
 // label block (α ∈ L), a depth block (α ∈ D ∪ {U}) and a motion block
-// (α ∈ M), `rounds` times. Every move is an expansion move of the full
-// energy restricted to one factor and is accepted only when the full energy
-// decreases, so the energy never increases (JointViewResult::energy_trace).
+// (α ∈ M), `rounds` times; from the second round the label block moves
+// (label, depth) pairs, a pixel taking label l taking the depth of the
+// nearest pixel labelled l (label_moves_carry_depth). Every move is an
+// expansion move of the full energy restricted to what it changes and is
+// accepted only when the full energy decreases, so the energy never
+// increases (JointViewResult::energy_trace).
 // Tractability (the design brief): only pixels of the objects' regions
 // (dilated) are optimised, depth labels span the objects' depth range,
 // motion labels are windows around the sparse track displacements, and the
