@@ -160,7 +160,7 @@ EpipolarResult CheckEpipolar(const Camera& cam1, const std::vector<cv::Mat>& ima
   // A turn moves the lines only where its image motion crosses them: take the
   // more damaging of turns about the camera's x and y axes.
   r.inliers_wrong = r.matches;
-  for (const Eigen::Vector3d& axis : {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()}) {
+  for (const Eigen::Vector3d axis : {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()}) {
     int n = 0;
     for (double d : EpipolarDistances(m, cam1, Rotated(cam2, 1.0, axis))) n += d < kInlierPx;
     r.inliers_wrong = std::min(r.inliers_wrong, n);

@@ -267,11 +267,6 @@ KeyframeTerms Terms(const KeyframeObservations& obs, const Prepared& prep, int v
   return t;
 }
 
-double Sum(const KeyframeTerms& t, const KeyframeOptions& o) {
-  return (o.use_correspondence ? t.m : 0) + (o.use_semantic ? t.l : 0) +
-         (o.use_distance ? t.d : 0) + (o.use_pose ? t.p : 0) + (o.use_shape ? t.i : 0);
-}
-
 }  // namespace
 
 KeyframeTerms KeyframeTermsAt(const KeyframeObservations& obs, int view, int i, int j,

@@ -262,7 +262,9 @@ TEST(KeyframeSelectionTest, SimilarityCoverAvoidsHubFrames) {
   EXPECT_LT(sel.keyframes[0], hub);
   EXPECT_GT(sel.keyframes[1], hub);
   for (int t = 0; t < n; ++t) {
-    if (t != hub) EXPECT_EQ(sel.frame_keyframe[t] < hub, t < hub) << "frame " << t;
+    if (t != hub) {
+      EXPECT_EQ(sel.frame_keyframe[t] < hub, t < hub) << "frame " << t;
+    }
   }
   KeyframeSelectOptions bad;
   bad.medoid_rounds = -1;
