@@ -365,8 +365,9 @@ int main(int argc, char** argv) try {
       const cv::Mat grabcut = eval::GrabCutInstances(in.images_t[v], in.initial_labels);
       add_seg("grabcut", grabcut, timer.Seconds());
       if (!args.dump.empty())
-        WriteImage((fs::path(args.dump) / fmt::format("f{}_v{}_grabcut_labels.png", frame, v)).string(),
-                   grabcut);
+        WriteImage(
+            (fs::path(args.dump) / fmt::format("f{}_v{}_grabcut_labels.png", frame, v)).string(),
+            grabcut);
 
       cv::Mat full_roi;
       for (const std::string& m : methods) {

@@ -291,9 +291,10 @@ TEST_F(JointViewMeetupTest, LabelMovesCarryingDepthFreeTheBackgroundBetweenLegs)
     iou_fixed += score(fixed_depth, &false_fixed) / 2;
     iou_carried += score(PaperOptions(), &false_carried) / 2;
   }
-  std::printf("mean instance IoU: labels at fixed depth %.3f (%d false person pixels), "
-              "depth carried %.3f (%d)\n",
-              iou_fixed, false_fixed, iou_carried, false_carried);
+  std::printf(
+      "mean instance IoU: labels at fixed depth %.3f (%d false person pixels), "
+      "depth carried %.3f (%d)\n",
+      iou_fixed, false_fixed, iou_carried, false_carried);
   EXPECT_GT(iou_carried, iou_fixed + 0.02);
   EXPECT_LT(false_carried, 0.7 * false_fixed);
 }
