@@ -243,9 +243,9 @@ struct LabelDepthBlock : mrf::GridEnergy {
     return pr.PairV(p, q, lp, lq, DepthOf(p, lp), DepthOf(q, lq), pr.mv[p], pr.mv[q]);
   }
 };
-// Per label l, the depth label of the nearest pixel labelled l (Euclidean
-// distance, ties as OpenCV's distance transform breaks them); a label absent
-// from `labels` gets the unknown depth.
+// Per label l, the depth label of the nearest pixel labelled l in pr.l
+// (Euclidean distance, ties as OpenCV's distance transform breaks them); a
+// label that no pixel has gets the unknown depth everywhere.
 std::vector<std::vector<int>> NearestLabelDepths(const Problem& pr, int num_labels) {
   std::vector<std::vector<int>> carried(num_labels);
   for (int l = 0; l < num_labels; ++l) {
