@@ -14,6 +14,27 @@ namespace {
 constexpr int kMaxSteps = 20000;  // bound on the march per ray
 }  // namespace
 
+ReducedMasks ReduceMasks(const std::vector<Camera>& cameras, const std::vector<cv::Mat>& masks,
+                         int max_side, int dilation_px) {
+  const size_t nv = cameras.size();
+  ReducedMasks r{std::vector<Camera>(nv), std::vector<cv::Mat>(nv), std::vector<cv::Mat>(nv)};
+  for (size_t v = 0; v < nv; ++v) {
+    const double s = std::min(
+        1.0, static_cast<double>(max_side) / std::max(cameras[v].width, cameras[v].height));
+    r.cameras[v] = ScaledCamera(cameras[v], s);
+    cv::Mat area;
+    cv::resize(masks[v], area, cv::Size(r.cameras[v].width, r.cameras[v].height), 0, 0,
+               cv::INTER_AREA);
+    r.source[v] = area >= 128;
+    r.target[v] = area > 0;
+    if (dilation_px > 0)
+      cv::dilate(r.target[v], r.target[v],
+                 cv::getStructuringElement(cv::MORPH_ELLIPSE,
+                                           cv::Size(2 * dilation_px + 1, 2 * dilation_px + 1)));
+  }
+  return r;
+}
+
 std::vector<cv::Mat> CrossViewConsistentMasks(const std::vector<Camera>& cameras,
                                               const std::vector<cv::Mat>& masks,
                                               const InitOptions& options,
@@ -44,24 +65,10 @@ std::vector<cv::Mat> CrossViewConsistentMasks(const std::vector<Camera>& cameras
             "CrossViewConsistentMasks: max depth {} m must exceed min_depth_m {} m", far,
             options.min_depth_m);
 
-  // Reduced-resolution cameras, source masks (mostly covered) and dilated
-  // target masks (any coverage).
-  std::vector<Camera> small(nv);
-  std::vector<cv::Mat> source(nv), target(nv);
-  for (int v = 0; v < nv; ++v) {
-    const double s = std::min(1.0, static_cast<double>(options.consistency_max_side) /
-                                       std::max(cameras[v].width, cameras[v].height));
-    small[v] = ScaledCamera(cameras[v], s);
-    cv::Mat area;
-    cv::resize(masks[v], area, cv::Size(small[v].width, small[v].height), 0, 0, cv::INTER_AREA);
-    source[v] = area >= 128;
-    target[v] = area > 0;
-    if (options.consistency_dilation_px > 0) {
-      const int r = options.consistency_dilation_px;
-      cv::dilate(target[v], target[v],
-                 cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)));
-    }
-  }
+  const ReducedMasks reduced =
+      ReduceMasks(cameras, masks, options.consistency_max_side, options.consistency_dilation_px);
+  const std::vector<Camera>& small = reduced.cameras;
+  const std::vector<cv::Mat>&source = reduced.source, &target = reduced.target;
   // With few views the requirement is capped at what exists.
   const int min_seeing = std::min(options.min_views_seeing, nv - 1);
   std::vector<cv::Mat> consistent(nv);

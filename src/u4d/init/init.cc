@@ -1,4 +1,5 @@
 // InitOptions and the whole unsupervised chain (init.h).
+#include <algorithm>
 #include <set>
 
 #include <tbb/parallel_for.h>
@@ -17,6 +18,17 @@ std::vector<cv::Mat> SplitAll(const std::vector<cv::Mat>& images, const std::vec
   tbb::parallel_for(0, nv,
                     [&](int v) { ids[v] = SplitInstances(images[v], fg[v], boxes[v], options); });
   return ids;
+}
+
+// Step 6 where enough calibrated views exist, else step 4 per view.
+std::vector<cv::Mat> Instances(const std::vector<Camera>& cameras,
+                               const std::vector<cv::Mat>& images, const std::vector<cv::Mat>& fg,
+                               const std::vector<std::vector<PersonBox>>& boxes,
+                               const InitOptions& options) {
+  if (options.ground_occupancy &&
+      static_cast<int>(cameras.size()) >= std::max(2, options.occupancy_min_views))
+    return SeparatePeopleOnGround(cameras, SplitAll(images, fg, boxes, options), options);
+  return SplitAll(images, fg, boxes, options);
 }
 
 }  // namespace
@@ -79,6 +91,30 @@ void InitOptions::Check() const {
             ghost_edge_ratio);
   U4D_CHECK(still_max_side >= 32, "InitOptions.still_max_side must be >= 32, found {}",
             still_max_side);
+  U4D_CHECK(occupancy_min_views >= 2, "InitOptions.occupancy_min_views must be >= 2, found {}",
+            occupancy_min_views);
+  U4D_CHECK(occupancy_max_side >= 16, "InitOptions.occupancy_max_side must be >= 16, found {}",
+            occupancy_max_side);
+  U4D_CHECK(occupancy_cells >= 8 && occupancy_cells <= 1024,
+            "InitOptions.occupancy_cells must be in [8, 1024], found {}", occupancy_cells);
+  U4D_CHECK(occupancy_extent > 0, "InitOptions.occupancy_extent must be > 0, found {}",
+            occupancy_extent);
+  U4D_CHECK(min_column_height_m >= 0, "InitOptions.min_column_height_m must be >= 0, found {}",
+            min_column_height_m);
+  U4D_CHECK(min_person_height_m >= min_column_height_m,
+            "InitOptions.min_person_height_m must be >= min_column_height_m ({}), found {}",
+            min_column_height_m, min_person_height_m);
+  U4D_CHECK(person_smoothing_m >= 0, "InitOptions.person_smoothing_m must be >= 0, found {}",
+            person_smoothing_m);
+  U4D_CHECK(person_saddle_ratio > 0 && person_saddle_ratio <= 1,
+            "InitOptions.person_saddle_ratio must be in (0, 1], found {}", person_saddle_ratio);
+  U4D_CHECK(min_exclusive_share >= 0 && min_exclusive_share <= 1,
+            "InitOptions.min_exclusive_share must be in [0, 1], found {}", min_exclusive_share);
+  U4D_CHECK(min_split_share > 0 && min_split_share <= 1,
+            "InitOptions.min_split_share must be in (0, 1], found {}", min_split_share);
+  U4D_CHECK(occupancy_fill_fraction >= 0 && occupancy_fill_fraction < 1,
+            "InitOptions.occupancy_fill_fraction must be in [0, 1), found {}",
+            occupancy_fill_fraction);
   U4D_CHECK(grabcut_max_side >= 16, "InitOptions.grabcut_max_side must be >= 16, found {}",
             grabcut_max_side);
 }
@@ -126,13 +162,13 @@ std::vector<cv::Mat> UnsupervisedInstanceMasks(const std::vector<Camera>& camera
       const std::vector<cv::Mat> kept = CrossViewConsistentMasks(cameras, filled, options);
       const std::vector<cv::Mat> confirmed = CrossViewConsistentMasks(cameras, filled, carve);
       for (int v = 0; v < nv; ++v) fg[v] = kept[v] & (fg[v] | confirmed[v]);
-      return SplitAll(images_t, fg, boxes, options);
+      return Instances(cameras, images_t, fg, boxes, options);
     }
     fg = filled;
   }
   if (options.cross_view && cameras.size() >= 2)
     fg = CrossViewConsistentMasks(cameras, fg, options);
-  return SplitAll(images_t, fg, boxes, options);
+  return Instances(cameras, images_t, fg, boxes, options);
 }
 
 InstanceMask ToInstanceMask(const cv::Mat& ids) {

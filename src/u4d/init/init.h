@@ -73,10 +73,17 @@
 //    UnsupervisedInstanceMasks the added pixels are kept only where the
 //    cross-view check confirms them (carve_still_fill).
 //
-// Output: CV_16UC1 ids per view, 0 = background, 1..n local to the view
-// (sorted left to right by the instance's centroid), the format of the
-// capture's masks/ (io/instance_mask.h, docs/formats.md). Ids are NOT the
-// same person across views or frames.
+// 6. People on the ground plane (SeparatePeopleOnGround, below; with at
+//    least occupancy_min_views calibrated cameras): step 4's instances are
+//    named, split where they merge people, or dropped, by the people of a
+//    voxel hull of all views separated on the ground plane.
+//
+// Output: CV_16UC1 ids per view, 0 = background, the format of the
+// capture's masks/ (io/instance_mask.h, docs/formats.md). With step 6 an id
+// is the same person in every view of the time step (ids need not be
+// contiguous in a view); without it ids are 1..n local to the view (sorted
+// left to right by the instance's centroid). Ids are NOT the same person
+// across frames.
 //
 // Failure modes: throws u4d::Error on empty images, a size that differs
 // between a frame and its background or camera, a non-BGR image, mismatched
@@ -89,6 +96,7 @@
 #include <functional>
 #include <vector>
 
+#include <Eigen/Core>
 #include <opencv2/core.hpp>
 
 #include "u4d/geometry/camera.h"
@@ -180,6 +188,23 @@ struct InitOptions {
   bool remove_ghosts = true;         // drop ghost components (RemoveGhosts) before step 5
   double ghost_edge_ratio = 0.5;     // ghost: outline gradient in the image < this x in
                                      // the model (0.5: the model's edge is clearly stronger)
+  // People on the ground plane (step 6, SeparatePeopleOnGround); replaces
+  // step 4's per-view split when at least occupancy_min_views cameras are given.
+  bool ground_occupancy = true;           // run step 6 (else step 4 splits each view)
+  int occupancy_min_views = 3;            // cameras needed; also views that must see a voxel
+  int occupancy_max_side = 320;           // longest image side at which voxels are tested (px)
+  int occupancy_cells = 128;              // cells per side of the cubic grid
+  double occupancy_extent = 0.8;          // grid half-size: this x median camera distance to
+                                          // the rig centre
+  double min_column_height_m = 0.3;       // lower columns are floor, shadow, clutter (m)
+  double min_person_height_m = 1.0;       // a person's highest column reaches this (m)
+  double person_smoothing_m = 0.1;        // Gaussian sigma on the height map (m)
+  double person_saddle_ratio = 0.7;       // regions merge above this x the lower peak
+  double min_exclusive_share = 0.3;       // phantoms: no view has this share of its rays alone
+  double min_split_share = 0.25;          // an instance merges a second person nearest on this
+                                          // x as many of its rays as its own person
+  double occupancy_fill_fraction = 0.03;  // pixels missing an id take the nearest within
+                                          // this x image height, else are dropped
 
   void Check() const;  // throws u4d::Error naming the offending field
 };
@@ -248,6 +273,61 @@ cv::Mat RemoveGhosts(const cv::Mat& image_bgr, const cv::Mat& foreground,
 // for GrabCut's k-means). Throws on a non-BGR image or sizes that differ.
 cv::Mat FillStillSubjects(const cv::Mat& image_bgr, const cv::Mat& foreground,
                           const BackgroundModel& background, const InitOptions& options = {});
+
+// Step 6: people separated on a ground-plane occupancy map of all views
+// (docs/init.md). Per time step, a cubic voxel grid (occupancy_cells per
+// side, half-size occupancy_extent x the median distance of the cameras to
+// the point nearest their optical axes) with two axes on the ground plane
+// (orthogonal to RigUpDirection). A voxel is occupied when it falls in the
+// (dilated, occupancy_max_side resolution) foreground of at least
+// min_view_fraction of the views whose image it is in, and at least
+// min(occupancy_min_views, views) views see it. The height of each ground
+// column (occupied voxels x cell) is smoothed (person_smoothing_m); columns
+// at least min_column_height_m high climb it to a local maximum, and the
+// regions so formed merge where their saddle is at least
+// person_saddle_ratio of the lower peak (legs, arms; the floor between two
+// people is lower). A region is a candidate when its highest column reaches
+// min_person_height_m (flat shadows and floor patches are not). Phantoms
+// (where silhouette cones of different people cross) go: every ray through
+// a phantom also crosses a real person, so the candidate whose best view
+// has the smallest share of its rays crossing no other candidate is dropped
+// while that share is below min_exclusive_share.
+// Then per view, `instances` (step 4's ids) are the units: instances and
+// people are paired one to one, largest count first, by rays whose nearest
+// person is that person, then (people still unpaired) by rays crossing
+// them; a paired instance in which an unpaired person is the nearest on at
+// least min_split_share x as many rays as its own is split by each pixel's
+// nearest person; other instances take the person nearest on most of their
+// rays; instances no ray of which meets a person, and pixels farther than
+// occupancy_fill_fraction x height from any ray that meets one, become
+// background. Ids are the same person in every view of the time step
+// (ordered along the grid's first axis, then second, of their peaks), not
+// across time steps.
+struct OccupancyMap {
+  Eigen::Vector3d up = Eigen::Vector3d::UnitY();  // world up (RigUpDirection)
+  Eigen::Vector3d axis_a, axis_b;                 // ground axes: grid columns, rows
+  Eigen::Vector3d origin;                         // world position of the grid's corner
+  double cell_m = 0;                              // cell size (m)
+  int cells = 0;                                  // cells per side
+  cv::Mat height;                                 // CV_32FC1 cells x cells: occupied m per column
+  cv::Mat people;                                 // CV_16UC1: person id per column (0 = none)
+  int num_people = 0;
+  std::vector<double> exclusive_share;  // per id (index 0 unused): best view's share of
+                                        // the person's rays that cross no other person
+};
+// `instances`: CV_16UC1 per view at its camera's size (0 = background; one
+// id per view for a plain foreground mask). Returns CV_16UC1 person ids per
+// view; `map` (optional) receives the grid. Throws on a wrong type or size,
+// fewer than 2 views, or cameras that all sit at one point.
+std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
+                                            const std::vector<cv::Mat>& instances,
+                                            const InitOptions& options = {},
+                                            OccupancyMap* map = nullptr);
+// World "up" of a rig whose images are upright (no roll: every camera's x
+// axis is horizontal): the direction most nearly orthogonal to all x axes,
+// signed like the mean of the cameras' -y axes; that mean itself when all x
+// axes are parallel. Throws on no cameras.
+Eigen::Vector3d RigUpDirection(const std::vector<Camera>& cameras);
 
 // Step 4: instance ids (CV_16UC1, 1..n left to right) from a foreground mask
 // and the image; `boxes` as from DetectPeople (may be empty).

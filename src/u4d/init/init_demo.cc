@@ -5,6 +5,7 @@
 // Prints per view the background noise level and per frame the timings.
 #include <cstdio>
 #include <cstdlib>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -101,6 +102,8 @@ int main(int argc, char** argv) {
     if (const char* g = std::getenv("U4D_INIT_GHOSTS")) options.remove_ghosts = std::atoi(g) != 0;
     if (const char* g = std::getenv("U4D_INIT_HOG")) options.use_hog = std::atoi(g) != 0;
     if (const char* g = std::getenv("U4D_INIT_CROSS_VIEW")) options.cross_view = std::atoi(g) != 0;
+    if (const char* g = std::getenv("U4D_INIT_OCCUPANCY"))
+      options.ground_occupancy = std::atoi(g) != 0;
     for (const int f : frames) {
       std::vector<cv::Mat> images(nv);
       for (int v = 0; v < nv; ++v) images[v] = reader.Read(v, f);
@@ -111,9 +114,10 @@ int main(int argc, char** argv) {
       std::string counts;
       double inter = 0, uni = 0;
       for (int v = 0; v < nv; ++v) {
-        double mx = 0;
-        cv::minMaxLoc(ids[v], nullptr, &mx);
-        counts += fmt::format(" {}", static_cast<int>(mx));
+        std::set<int> present;  // distinct ids (step 6's need not be 1..n)
+        for (auto it = ids[v].begin<uint16_t>(); it != ids[v].end<uint16_t>(); ++it)
+          if (*it) present.insert(*it);
+        counts += fmt::format(" {}", present.size());
         const fs::path gt = capture.root / layout::GtInstances(capture.views[v].name, f);
         if (fs::exists(gt)) {
           const cv::Mat g = cv::imread(gt.string(), cv::IMREAD_UNCHANGED) > 0;

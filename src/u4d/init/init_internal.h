@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -34,6 +35,16 @@ cv::Mat ForegroundFromLab(const cv::Mat& lab, const BackgroundModel& background,
                           const InitOptions& options);
 // Opening and closing, then components and holes below min_blob_fraction go.
 cv::Mat CleanMask(const cv::Mat& mask, const InitOptions& options);
+// Masks at a reduced resolution (longest side at most max_side) for the
+// multi-view steps (3 and 6): per view the scaled camera, the source mask
+// (pixels at least half covered) and the target mask (any coverage, dilated
+// by dilation_px).
+struct ReducedMasks {
+  std::vector<Camera> cameras;
+  std::vector<cv::Mat> source, target;
+};
+ReducedMasks ReduceMasks(const std::vector<Camera>& cameras, const std::vector<cv::Mat>& masks,
+                         int max_side, int dilation_px);
 // Sets components (8-connected, of a 0/255 mask) smaller than min_area to 0.
 void RemoveSmallComponents(cv::Mat& mask, double min_area);
 
