@@ -25,13 +25,16 @@ std::vector<cv::Mat> Instances(const std::vector<Camera>& cameras,
                                const std::vector<cv::Mat>& images, const std::vector<cv::Mat>& fg,
                                const std::vector<std::vector<PersonBox>>& boxes,
                                const InitOptions& options) {
-  if (options.ground_occupancy &&
-      static_cast<int>(cameras.size()) >= std::max(2, options.occupancy_min_views))
+  if (UsesGroundOccupancy(options, static_cast<int>(cameras.size())))
     return SeparatePeopleOnGround(cameras, SplitAll(images, fg, boxes, options), options);
   return SplitAll(images, fg, boxes, options);
 }
 
 }  // namespace
+
+bool UsesGroundOccupancy(const InitOptions& options, int num_cameras) {
+  return options.ground_occupancy && num_cameras >= std::max(2, options.occupancy_min_views);
+}
 
 void InitOptions::Check() const {
   U4D_CHECK(threshold_sigmas > 0, "InitOptions.threshold_sigmas must be > 0, found {}",

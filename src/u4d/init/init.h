@@ -323,6 +323,9 @@ std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
                                             const std::vector<cv::Mat>& instances,
                                             const InitOptions& options = {},
                                             OccupancyMap* map = nullptr);
+// Whether UnsupervisedInstanceMasks runs step 6 with this many calibrated
+// cameras (its ids are then alike across views).
+bool UsesGroundOccupancy(const InitOptions& options, int num_cameras);
 // World "up" of a rig whose images are upright (no roll: every camera's x
 // axis is horizontal): the direction most nearly orthogonal to all x axes,
 // signed like the mean of the cameras' -y axes; that mean itself when all x

@@ -45,6 +45,23 @@ std::map<int, int> LinkObjects(const std::map<int, Eigen::Vector3d>& centroids,
   return link;
 }
 
+// Mask id k is object k in every view where it occurs.
+InstanceAssociation IdentityAssociation(const std::vector<cv::Mat>& masks) {
+  InstanceAssociation a;
+  a.object_of.resize(masks.size());
+  for (size_t v = 0; v < masks.size(); ++v) {
+    if (masks[v].empty()) continue;
+    cv::Mat ids;
+    masks[v].convertTo(ids, CV_32S);
+    for (auto it = ids.begin<int>(); it != ids.end<int>(); ++it)
+      if (*it > 0) {
+        a.object_of[v][*it] = *it;
+        a.num_objects = std::max(a.num_objects, *it);
+      }
+  }
+  return a;
+}
+
 // Instances of a view not associated with an object join the object most
 // of their silhouette points are associated with in the other views.
 void AttachFragments(const std::vector<cv::Mat>& masks, const std::vector<SparsePoint>& points,
@@ -162,7 +179,8 @@ FrameObjects ObjectsFromSparse(const std::vector<Camera>& cameras,
                                const std::vector<cv::Mat>& images,
                                const std::vector<cv::Mat>& masks,
                                const SparseFrameOptions& sparse_options,
-                               const ObjectRegionOptions& region_options, ObjectLinker* linker) {
+                               const ObjectRegionOptions& region_options, ObjectLinker* linker,
+                               bool ids_alike_across_views) {
   U4D_CHECK(linker != nullptr, "ObjectsFromSparse: no linker");
   U4D_CHECK(cameras.size() == masks.size() && cameras.size() == images.size(),
             "ObjectsFromSparse: {} cameras, {} images and {} masks", cameras.size(), images.size(),
@@ -170,8 +188,12 @@ FrameObjects ObjectsFromSparse(const std::vector<Camera>& cameras,
   SparseFrame sparse = ReconstructSparseFrame(cameras, images, masks, sparse_options);
   std::vector<SparsePoint> evidence = sparse.points;
   for (SparsePoint& p : SilhouettePoints(cameras, masks)) evidence.push_back(std::move(p));
-  sparse.association = AssociateInstances(cameras, masks, evidence, sparse_options.sparse);
-  AttachFragments(masks, evidence, &sparse.association);
+  if (ids_alike_across_views) {
+    sparse.association = IdentityAssociation(masks);
+  } else {
+    sparse.association = AssociateInstances(cameras, masks, evidence, sparse_options.sparse);
+    AttachFragments(masks, evidence, &sparse.association);
+  }
   AssignInstances(masks, sparse.association, sparse.points);
   AssignInstances(masks, sparse.association, evidence);
   // Depth ranges from the feature points (accurate) where a view has enough

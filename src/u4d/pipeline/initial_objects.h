@@ -84,12 +84,17 @@ std::vector<SparsePoint> SilhouettePoints(const std::vector<Camera>& cameras,
 FrameObjects ObjectsFromPoses(const std::vector<Camera>& cameras, const std::vector<cv::Mat>& masks,
                               const std::vector<Pose3d>& poses, const FrameSetupOptions& options);
 
-// Without poses: see above. Throws u4d::Error on mismatched sizes.
+// Without poses: see above. With `ids_alike_across_views` (masks whose id
+// is already the same person in every view, e.g. init.h's step 6) mask id k
+// is object k in every view and the feature/silhouette association is not
+// run (the points still give centroids and depth ranges). Throws
+// u4d::Error on mismatched sizes.
 FrameObjects ObjectsFromSparse(const std::vector<Camera>& cameras,
                                const std::vector<cv::Mat>& images,
                                const std::vector<cv::Mat>& masks,
                                const SparseFrameOptions& sparse_options,
-                               const ObjectRegionOptions& region_options, ObjectLinker* linker);
+                               const ObjectRegionOptions& region_options, ObjectLinker* linker,
+                               bool ids_alike_across_views = false);
 
 // Writes / reads the files above for `frame` under the scene root `out`.
 // Reading a frame never written throws u4d::Error naming the file.

@@ -175,7 +175,9 @@ int ComputeInitialObjects(Context& c, const std::vector<std::vector<Pose3d>>& po
     const FrameObjects objects =
         c.poses != PoseSource::kNone
             ? ObjectsFromPoses(cams, masks, poses[k], c.o.frame_setup)
-            : ObjectsFromSparse(cams, images, masks, c.o.sparse, c.o.regions, &linker);
+            : ObjectsFromSparse(cams, images, masks, c.o.sparse, c.o.regions, &linker,
+                                c.masks == MaskSource::kUnsupervised &&
+                                    UsesGroundOccupancy(c.o.init, static_cast<int>(cams.size())));
     WriteFrameObjects(c.out, c.names, f, objects);
     bool any = false;
     for (const cv::Mat& ids : objects.ids) any = any || (!ids.empty() && cv::countNonZero(ids) > 0);

@@ -194,6 +194,38 @@ TEST(PipelineTest, ObjectsWithoutPosesAreAssociatedAcrossViews) {
   EXPECT_EQ(back.centroids.size(), objects.centroids.size());
 }
 
+// Masks whose ids are already alike across views (init.h's step 6; here
+// the GT instances, ids 1 and 2): each id is one object in every view, its
+// pixels unchanged where the object has a depth range, and each object has a
+// centroid between the cameras.
+TEST(PipelineTest, ObjectsKeepIdsAlikeAcrossViews) {
+  const fs::path capture_dir = SmallCapture();
+  const Capture capture = ReadCapture(capture_dir);
+  FrameReader reader(capture);
+  std::vector<Camera> cameras;
+  std::vector<cv::Mat> images, truth;
+  for (int v = 0; v < capture.NumViews(); ++v) {
+    cameras.push_back(capture.views[v].CameraAt(1));
+    images.push_back(reader.Read(v, 1));
+    truth.push_back(ReadLabelImage(capture_dir / layout::GtInstances(capture.views[v].name, 1)));
+  }
+  ObjectLinker linker;
+  const FrameObjects objects = ObjectsFromSparse(cameras, images, truth, SparseFrameOptions{},
+                                                 ObjectRegionOptions{}, &linker, true);
+  ASSERT_EQ(objects.centroids.size(), 2u);
+  // The linker numbers the first frame's objects 1, 2 in the order of the
+  // mask ids: object k is GT person k.
+  int ranged = 0;
+  for (int v = 0; v < capture.NumViews(); ++v)
+    for (const int id : {1, 2}) {
+      if (!objects.depth_ranges[v].count(id)) continue;
+      ++ranged;
+      EXPECT_EQ(cv::countNonZero((objects.ids[v] == id) != (truth[v] == id)), 0)
+          << "view " << v << " id " << id;
+    }
+  EXPECT_GE(ranged, capture.NumViews());  // both people have depth ranges in most views
+}
+
 TEST(PipelineTest, ResumesAndRecoversFromAnInterruption) {
   const fs::path capture = SmallCapture();
   const fs::path scene = test_util::FreshTestDir("pipeline", "resume");
