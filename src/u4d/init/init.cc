@@ -104,6 +104,10 @@ void InitOptions::Check() const {
             occupancy_extent);
   U4D_CHECK(min_column_height_m >= 0, "InitOptions.min_column_height_m must be >= 0, found {}",
             min_column_height_m);
+  U4D_CHECK(min_lone_height_m >= min_column_height_m && min_lone_height_m <= min_person_height_m,
+            "InitOptions.min_lone_height_m must be in [min_column_height_m, min_person_height_m] "
+            "= [{}, {}], found {}",
+            min_column_height_m, min_person_height_m, min_lone_height_m);
   U4D_CHECK(min_person_height_m >= min_column_height_m,
             "InitOptions.min_person_height_m must be >= min_column_height_m ({}), found {}",
             min_column_height_m, min_person_height_m);

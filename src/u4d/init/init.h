@@ -198,6 +198,8 @@ struct InitOptions {
                                           // the rig centre
   double min_column_height_m = 0.3;       // lower columns are floor, shadow, clutter (m)
   double min_person_height_m = 1.0;       // a person's highest column reaches this (m)
+  double min_lone_height_m = 0.6;         // a lower region touching none that tall is a person
+                                          // when it reaches this (m)
   double person_smoothing_m = 0.1;        // Gaussian sigma on the height map (m)
   double person_saddle_ratio = 0.7;       // regions merge above this x the lower peak
   double min_exclusive_share = 0.3;       // phantoms: no view has this share of its rays alone

@@ -236,17 +236,36 @@ std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
       parent[b] = a;
     }
   }
-  // People: merged regions whose highest column reaches min_person_height_m;
-  // ids ordered along axis_a, then axis_b, of the peak.
-  std::vector<float> top(nr, 0);
-  for (int c = 0; c < n * n; ++c)
-    if (region[c] >= 0) {
-      float& t = top[Find(parent, region[c])];
-      t = std::max(t, m.height.at<float>(c / n, c % n));
-    }
+  // People: merged regions whose highest column reaches min_person_height_m.
+  // A lower region (a leg or an arm whose saddle is low, or a person
+  // crouching or lunging with parts missing from some masks) joins the
+  // tallest such region it touches, else is a person of its own when it
+  // reaches min_lone_height_m. Ids ordered along axis_a, then axis_b, of the peak.
+  const auto tops = [&] {
+    std::vector<float> top(nr, 0);
+    for (int c = 0; c < n * n; ++c)
+      if (region[c] >= 0) {
+        float& t = top[Find(parent, region[c])];
+        t = std::max(t, m.height.at<float>(c / n, c % n));
+      }
+    return top;
+  };
+  std::vector<float> top = tops();
+  std::vector<int> join(nr, -1);  // low root -> the tall root it joins
+  for (const Saddle& s : saddles) {
+    const int a = Find(parent, s.a), b = Find(parent, s.b);
+    if (a == b) continue;
+    for (const auto& [low, tall] : {std::pair{a, b}, std::pair{b, a}})
+      if (top[low] < options.min_person_height_m && top[tall] >= options.min_person_height_m &&
+          (join[low] < 0 || top[tall] > top[join[low]]))
+        join[low] = tall;
+  }
+  for (int r = 0; r < nr; ++r)
+    if (join[r] >= 0) parent[r] = join[r];
+  top = tops();
   std::vector<int> roots;
   for (int r = 0; r < nr; ++r)
-    if (Find(parent, r) == r && top[r] >= options.min_person_height_m) roots.push_back(r);
+    if (Find(parent, r) == r && top[r] >= options.min_lone_height_m) roots.push_back(r);
   std::sort(roots.begin(), roots.end(), [&](int x, int y) {
     return std::pair(peak_cell[x] % n, peak_cell[x] / n) <
            std::pair(peak_cell[y] % n, peak_cell[y] / n);
