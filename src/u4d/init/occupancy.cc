@@ -63,53 +63,12 @@ cv::Mat FillFromNearestId(const cv::Mat& ids, const cv::Mat& fg, double radius) 
   return out;
 }
 
-}  // namespace
-
-Eigen::Vector3d RigUpDirection(const std::vector<Camera>& cameras) {
-  U4D_CHECK(!cameras.empty(), "RigUpDirection: no cameras");
-  // Image rows run down, and an upright camera's x axis is horizontal: up is
-  // the direction most nearly orthogonal to every camera's x axis, with the
-  // sign of the mean image "up" (-y axis).
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d image_up = Eigen::Vector3d::Zero();
-  for (const Camera& c : cameras) {
-    const Eigen::Matrix3d world_from_cam = c.cam_from_world.rotation.transpose();
-    scatter += world_from_cam.col(0) * world_from_cam.col(0).transpose();
-    image_up -= world_from_cam.col(1);
-  }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(scatter);
-  Eigen::Vector3d up = eig.eigenvectors().col(0);
-  // All x axes (nearly) parallel: the orthogonal plane holds no single
-  // direction; the mean image up is then the best guess.
-  if (eig.eigenvalues()(1) < 0.05 * eig.eigenvalues()(2)) {
-    U4D_CHECK(image_up.norm() > 1e-9, "RigUpDirection: the cameras' up directions cancel out");
-    return image_up.normalized();
-  }
-  return up.dot(image_up) < 0 ? -up : up;
-}
-
-std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
-                                            const std::vector<cv::Mat>& instances,
-                                            const InitOptions& options, OccupancyMap* map) {
-  options.Check();
-  const int nv = static_cast<int>(cameras.size());
-  U4D_CHECK(nv >= 2, "SeparatePeopleOnGround: needs at least 2 views, found {}", nv);
-  U4D_CHECK(instances.size() == cameras.size(),
-            "SeparatePeopleOnGround: {} instance images for {} cameras", instances.size(),
-            cameras.size());
-  std::vector<cv::Mat> masks(nv);
-  for (int v = 0; v < nv; ++v) {
-    cameras[v].Check(fmt::format("SeparatePeopleOnGround: camera {}", v));
-    U4D_CHECK(!instances[v].empty() && instances[v].type() == CV_16UC1,
-              "SeparatePeopleOnGround: instances {} must be a non-empty CV_16UC1 image", v);
-    U4D_CHECK(instances[v].cols == cameras[v].width && instances[v].rows == cameras[v].height,
-              "SeparatePeopleOnGround: instances {} are {}x{}, its camera {}x{}", v,
-              instances[v].cols, instances[v].rows, cameras[v].width, cameras[v].height);
-    masks[v] = instances[v] > 0;
-  }
-
+// The grid of SeparatePeopleOnGround (init.h): up, ground axes, origin and
+// cell size; height and people are left empty.
+OccupancyMap MakeGrid(const std::vector<Camera>& cameras, const InitOptions& options) {
   // The grid: a cube centred on the point nearest the optical axes, with
   // axes (a, b) on the ground plane and `up`.
+  const int nv = static_cast<int>(cameras.size());
   OccupancyMap m;
   m.up = RigUpDirection(cameras);
   const Eigen::Vector3d centre = AxesCentre(cameras);
@@ -123,19 +82,19 @@ std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
   m.cells = options.occupancy_cells;
   m.cell_m = 2 * half / m.cells;
   m.origin = centre - half * (m.axis_a + m.axis_b + m.up);
-  const int n = m.cells;
+  return m;
+}
 
-  // Reduced masks, as in the cross-view check.
-  const ReducedMasks reduced =
-      ReduceMasks(cameras, masks, options.occupancy_max_side, options.consistency_dilation_px);
-  const std::vector<Camera>& small = reduced.cameras;
-  const std::vector<cv::Mat>&source = reduced.source, &target = reduced.target;
+size_t Voxel(int n, int i, int j, int k) { return (static_cast<size_t>(k) * n + j) * n + i; }
 
+std::vector<uint8_t> OccupiedVoxels(const OccupancyMap& m, const ReducedMasks& reduced,
+                                    const InitOptions& options) {
   // Occupied voxels: in the foreground of at least min_view_fraction of the
   // views whose image they fall in, seen by at least min(occupancy_min_views, nv).
+  const int n = m.cells, nv = static_cast<int>(reduced.cameras.size());
+  const std::vector<Camera>& small = reduced.cameras;
   const int min_seeing = std::min(options.occupancy_min_views, nv);
   std::vector<uint8_t> occupied(static_cast<size_t>(n) * n * n, 0);
-  const auto voxel = [&](int i, int j, int k) { return (static_cast<size_t>(k) * n + j) * n + i; };
   const auto centre_of = [&](double i, double j, double k) -> Eigen::Vector3d {
     return m.origin + m.cell_m * (i * m.axis_a + j * m.axis_b + k * m.up);
   };
@@ -148,29 +107,36 @@ std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
           const Eigen::Vector2d p = small[v].Project(x);
           if (!std::isfinite(p.x()) || !small[v].InImage(p)) continue;
           ++inside;
-          if (target[v].at<uint8_t>(static_cast<int>(std::lround(p.y())),
-                                    static_cast<int>(std::lround(p.x())))) {
+          if (reduced.target[v].at<uint8_t>(static_cast<int>(std::lround(p.y())),
+                                            static_cast<int>(std::lround(p.x())))) {
             ++fg;
           } else if (inside - fg > (1 - options.min_view_fraction) * nv + 1e-9) {
             break;  // too many misses already: at most nv views can see it
           }
         }
-        occupied[voxel(i, j, k)] =
+        occupied[Voxel(n, i, j, k)] =
             inside >= min_seeing && fg >= std::ceil(options.min_view_fraction * inside - 1e-9);
       }
   });
+  return occupied;
+}
 
+// Fills m->height; returns the candidate person (1..*candidates) of every
+// ground column, 0 for none (CV_16UC1, row = axis_b index).
+cv::Mat CandidatePeople(const std::vector<uint8_t>& occupied, const InitOptions& options,
+                        OccupancyMap* m, int* candidates) {
   // Column heights (occupied voxels per column), smoothed.
-  m.height = cv::Mat::zeros(n, n, CV_32FC1);  // row = b index, column = a index
+  const int n = m->cells;
+  m->height = cv::Mat::zeros(n, n, CV_32FC1);  // row = b index, column = a index
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       int count = 0;
-      for (int k = 0; k < n; ++k) count += occupied[voxel(i, j, k)];
-      m.height.at<float>(j, i) = static_cast<float>(count * m.cell_m);
+      for (int k = 0; k < n; ++k) count += occupied[Voxel(n, i, j, k)];
+      m->height.at<float>(j, i) = static_cast<float>(count * m->cell_m);
     }
   cv::Mat smooth;
-  const double sigma = std::max(0.5, options.person_smoothing_m / m.cell_m);
-  cv::GaussianBlur(m.height, smooth, cv::Size(0, 0), sigma);
+  const double sigma = std::max(0.5, options.person_smoothing_m / m->cell_m);
+  cv::GaussianBlur(m->height, smooth, cv::Size(0, 0), sigma);
 
   // Regions: every column at least min_column_height_m high climbs the
   // smoothed height to a local maximum; regions whose saddle is at least
@@ -180,7 +146,7 @@ std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
   std::vector<int> peak_cell;
   const auto candidate = [&](int i, int j) {
     return i >= 0 && j >= 0 && i < n && j < n &&
-           m.height.at<float>(j, i) >= options.min_column_height_m;
+           m->height.at<float>(j, i) >= options.min_column_height_m;
   };
   const auto S = [&](int c) { return smooth.at<float>(c / n, c % n); };
   for (int j = 0; j < n; ++j)
@@ -246,7 +212,7 @@ std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
     for (int c = 0; c < n * n; ++c)
       if (region[c] >= 0) {
         float& t = top[Find(parent, region[c])];
-        t = std::max(t, m.height.at<float>(c / n, c % n));
+        t = std::max(t, m->height.at<float>(c / n, c % n));
       }
     return top;
   };
@@ -272,29 +238,36 @@ std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
   });
   std::vector<int> id_of_root(nr, 0);
   for (size_t k = 0; k < roots.size(); ++k) id_of_root[roots[k]] = static_cast<int>(k) + 1;
-  const int candidates = static_cast<int>(roots.size());
+  *candidates = static_cast<int>(roots.size());
   cv::Mat person = cv::Mat::zeros(n, n, CV_16UC1);  // candidate id per column
   for (int c = 0; c < n * n; ++c)
     if (region[c] >= 0) person.at<uint16_t>(c / n, c % n) = id_of_root[Find(parent, region[c])];
+  return person;
+}
 
-  // Per view and source pixel, the candidates whose occupied voxels its ray
-  // crosses, nearest first.
-  struct Ray {
-    int x, y;
-    std::vector<uint16_t> hits;
-  };
+// A reduced-resolution foreground pixel's ray: the candidates whose occupied
+// voxels it crosses, nearest first.
+struct Ray {
+  int x, y;
+  std::vector<uint16_t> hits;
+};
+
+std::vector<std::vector<Ray>> CastRays(const OccupancyMap& m, const cv::Mat& person,
+                                       const std::vector<uint8_t>& occupied,
+                                       const ReducedMasks& reduced) {
+  const int n = m.cells, nv = static_cast<int>(reduced.cameras.size());
   std::vector<std::vector<Ray>> rays(nv);
   tbb::parallel_for(0, nv, [&](int v) {
-    const Camera& cam = small[v];
+    const Camera& cam = reduced.cameras[v];
     const Eigen::Matrix3d world_from_cam = cam.cam_from_world.rotation.transpose();
     // Camera centre and ray directions in grid units (cell index coordinates).
     const auto to_grid = [&](const Eigen::Vector3d& w) -> Eigen::Vector3d {
       return Eigen::Vector3d(w.dot(m.axis_a), w.dot(m.axis_b), w.dot(m.up)) / m.cell_m;
     };
     const Eigen::Vector3d o = to_grid(cam.Center() - m.origin);
-    for (int y = 0; y < source[v].rows; ++y)
-      for (int x = 0; x < source[v].cols; ++x) {
-        if (!source[v].at<uint8_t>(y, x)) continue;
+    for (int y = 0; y < reduced.source[v].rows; ++y)
+      for (int x = 0; x < reduced.source[v].cols; ++x) {
+        if (!reduced.source[v].at<uint8_t>(y, x)) continue;
         Ray ray{x, y, {}};
         const Eigen::Vector2d nn = cam.PixelToNormalized(Eigen::Vector2d(x, y));
         const Eigen::Vector3d d = to_grid(world_from_cam * Eigen::Vector3d(nn.x(), nn.y(), 1));
@@ -316,7 +289,7 @@ std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
           const int i = std::clamp(static_cast<int>(g.x()), 0, n - 1);
           const int j = std::clamp(static_cast<int>(g.y()), 0, n - 1);
           const int k = std::clamp(static_cast<int>(g.z()), 0, n - 1);
-          if (!occupied[voxel(i, j, k)]) continue;
+          if (!occupied[Voxel(n, i, j, k)]) continue;
           const uint16_t id = person.at<uint16_t>(j, i);
           if (id && std::find(ray.hits.begin(), ray.hits.end(), id) == ray.hits.end())
             ray.hits.push_back(id);
@@ -324,7 +297,14 @@ std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
         if (!ray.hits.empty()) rays[v].push_back(std::move(ray));
       }
   });
+  return rays;
+}
 
+// Drops phantoms (below); returns the final person id of every candidate (0
+// = dropped) and fills m->people, num_people and exclusive_share.
+std::vector<uint16_t> RemovePhantoms(const std::vector<std::vector<Ray>>& rays,
+                                     const cv::Mat& person, int candidates,
+                                     const InitOptions& options, OccupancyMap* m) {
   // Phantoms: where silhouette cones of different people cross, the hull
   // holds volumes no one occupies. Every pixel of a phantom lies in a real
   // person's silhouette, so every ray through it also crosses that person;
@@ -332,19 +312,15 @@ std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
   // candidate whose best view has the smallest share of rays crossing it
   // alone goes while that share is below min_exclusive_share (removing one
   // can make another exclusive).
+  const int n = m->cells;
   std::vector<uint8_t> alive(candidates + 1, 1);
   alive[0] = 0;
-  const auto first_alive = [&](const std::vector<uint16_t>& hits) -> int {
-    for (const uint16_t id : hits)
-      if (alive[id]) return id;
-    return 0;
-  };
-  m.exclusive_share.assign(candidates + 1, 0.0);
+  m->exclusive_share.assign(candidates + 1, 0.0);
   for (int removed = 0; removed < candidates; ++removed) {
     std::vector<double> best(candidates + 1, 0.0);
-    for (int v = 0; v < nv; ++v) {
+    for (const std::vector<Ray>& view_rays : rays) {
       std::vector<int> crossing(candidates + 1, 0), alone(candidates + 1, 0);
-      for (const Ray& r : rays[v]) {
+      for (const Ray& r : view_rays) {
         int count = 0, only = 0;
         for (const uint16_t id : r.hits)
           if (alive[id]) ++crossing[id], ++count, only = id;
@@ -358,7 +334,7 @@ std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
     for (int id = 1; id <= candidates; ++id)
       if (alive[id] && (worst == 0 || best[id] < best[worst])) worst = id;
     for (int id = 1; id <= candidates; ++id)
-      if (alive[id]) m.exclusive_share[id] = best[id];
+      if (alive[id]) m->exclusive_share[id] = best[id];
     if (worst == 0 || best[worst] >= options.min_exclusive_share) break;
     alive[worst] = 0;
   }
@@ -367,99 +343,167 @@ std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
   std::vector<double> share(1, 0.0);
   for (int id = 1; id <= candidates; ++id)
     if (alive[id]) {
-      final_id[id] = static_cast<uint16_t>(++m.num_people);
-      share.push_back(m.exclusive_share[id]);
+      final_id[id] = static_cast<uint16_t>(++m->num_people);
+      share.push_back(m->exclusive_share[id]);
     }
-  m.exclusive_share = share;
-  m.people = cv::Mat::zeros(n, n, CV_16UC1);
+  m->exclusive_share = share;
+  m->people = cv::Mat::zeros(n, n, CV_16UC1);
   for (int c = 0; c < n * n; ++c)
-    m.people.at<uint16_t>(c / n, c % n) = final_id[person.at<uint16_t>(c / n, c % n)];
+    m->people.at<uint16_t>(c / n, c % n) = final_id[person.at<uint16_t>(c / n, c % n)];
+  return final_id;
+}
 
-  // Per view, the step-4 instances are the units (they separate people side
-  // by side in the image, where a few views leave the hull fat); the hull
-  // names them and splits those that merge people:
-  //  1. instances and people are paired one to one, largest count first: by
-  //     rays whose nearest person is that person, then, for people still
-  //     unpaired, by rays crossing them at all (a person behind another's fat
-  //     hull is crossed, not first);
-  //  2. a paired instance in which another person unpaired in this view is
-  //     the nearest on at least min_split_share x as many rays as its own
-  //     person is a merge: its pixels take their nearest person among those;
-  //  3. other instances (fragments) take the person nearest on most of their
-  //     rays; instances no ray of which crosses a person are dropped, and so
-  //     are pixels farther than occupancy_fill_fraction x height from any
-  //     ray that crosses one.
+// The final id of the nearest person a ray crosses, 0 for none.
+int NearestPerson(const std::vector<uint16_t>& hits, const std::vector<uint16_t>& final_id) {
+  for (const uint16_t id : hits)
+    if (final_id[id]) return final_id[id];
+  return 0;
+}
+
+// Per view, the step-4 instances are the units (they separate people side
+// by side in the image, where a few views leave the hull fat); the hull
+// names them and splits those that merge people:
+//  1. instances and people are paired one to one, largest count first: by
+//     rays whose nearest person is that person, then, for people still
+//     unpaired, by rays crossing them at all (a person behind another's fat
+//     hull is crossed, not first);
+//  2. a paired instance in which another person unpaired in this view is
+//     the nearest on at least min_split_share x as many rays as its own
+//     person is a merge: its pixels take their nearest person among those;
+//  3. other instances (fragments) take the person nearest on most of their
+//     rays; instances no ray of which crosses a person are dropped, and so
+//     are pixels farther than occupancy_fill_fraction x height from any
+//     ray that crosses one.
+cv::Mat NameInstances(const cv::Mat& inst, const std::vector<Ray>& rays, cv::Size reduced_size,
+                      const std::vector<uint16_t>& final_id, int num_people,
+                      const InitOptions& options) {
+  double max_id = 0;
+  cv::minMaxLoc(inst, nullptr, &max_id);
+  const int ni = static_cast<int>(max_id) + 1, np = num_people + 1;
+  std::vector<std::vector<int>> first(ni, std::vector<int>(np, 0)), cross = first;
+  cv::Mat nearest = cv::Mat::zeros(reduced_size, CV_16UC1);
+  const double sx = static_cast<double>(inst.cols) / reduced_size.width;
+  const double sy = static_cast<double>(inst.rows) / reduced_size.height;
+  const auto instance_at = [&](int x, int y) {
+    return inst.at<uint16_t>(std::min(inst.rows - 1, static_cast<int>((y + 0.5) * sy)),
+                             std::min(inst.cols - 1, static_cast<int>((x + 0.5) * sx)));
+  };
+  for (const Ray& r : rays) {
+    const int i = instance_at(r.x, r.y);
+    const int k = NearestPerson(r.hits, final_id);
+    nearest.at<uint16_t>(r.y, r.x) = static_cast<uint16_t>(k);
+    if (i == 0) continue;
+    ++first[i][k];
+    for (const uint16_t id : r.hits)
+      if (final_id[id]) ++cross[i][final_id[id]];
+  }
+  std::vector<int> person_of(ni, 0);
+  std::vector<uint8_t> paired(np, 0);
+  for (const auto* count : {&first, &cross}) {
+    struct Entry {
+      int n, i, k;
+    };
+    std::vector<Entry> entries;
+    for (int i = 1; i < ni; ++i)
+      for (int k = 1; k < np; ++k)
+        if ((*count)[i][k] > 0) entries.push_back({(*count)[i][k], i, k});
+    std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+      return std::tie(b.n, a.i, a.k) < std::tie(a.n, b.i, b.k);
+    });
+    for (const Entry& e : entries)
+      if (!person_of[e.i] && !paired[e.k]) person_of[e.i] = e.k, paired[e.k] = 1;
+  }
+  std::vector<std::vector<uint8_t>> split(ni, std::vector<uint8_t>(np, 0));
+  for (int i = 1; i < ni; ++i) {
+    if (person_of[i]) {
+      for (int k = 1; k < np; ++k)
+        split[i][k] =
+            k == person_of[i] ||
+            (!paired[k] && first[i][k] >= options.min_split_share * first[i][person_of[i]]);
+      for (int k = 1; k < np; ++k)
+        if (k != person_of[i] && split[i][k]) paired[k] = 2;  // paired by the split
+    } else {
+      person_of[i] = static_cast<int>(std::max_element(first[i].begin() + 1, first[i].end()) -
+                                      first[i].begin());
+      if (first[i][person_of[i]] == 0) person_of[i] = 0;
+    }
+  }
+  // Nearest person per pixel at full resolution, for the merged instances.
+  cv::Mat up;
+  cv::resize(nearest, up, inst.size(), 0, 0, cv::INTER_NEAREST);
+  const cv::Mat fg = inst > 0;
+  const cv::Mat near_full = FillFromNearestId(up, fg, options.occupancy_fill_fraction * inst.rows);
+  cv::Mat out = cv::Mat::zeros(inst.size(), CV_16UC1);
+  for (int y = 0; y < inst.rows; ++y)
+    for (int x = 0; x < inst.cols; ++x) {
+      const int i = inst.at<uint16_t>(y, x);
+      if (i == 0 || person_of[i] == 0) continue;
+      // Pixels far from any ray that meets a person (light, clutter
+      // grouped with a person) are dropped.
+      const int k = near_full.at<uint16_t>(y, x);
+      if (k > 0) out.at<uint16_t>(y, x) = static_cast<uint16_t>(split[i][k] ? k : person_of[i]);
+    }
+  return out;
+}
+
+}  // namespace
+
+Eigen::Vector3d RigUpDirection(const std::vector<Camera>& cameras) {
+  U4D_CHECK(!cameras.empty(), "RigUpDirection: no cameras");
+  // Image rows run down, and an upright camera's x axis is horizontal: up is
+  // the direction most nearly orthogonal to every camera's x axis, with the
+  // sign of the mean image "up" (-y axis).
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d image_up = Eigen::Vector3d::Zero();
+  for (const Camera& c : cameras) {
+    const Eigen::Matrix3d world_from_cam = c.cam_from_world.rotation.transpose();
+    scatter += world_from_cam.col(0) * world_from_cam.col(0).transpose();
+    image_up -= world_from_cam.col(1);
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(scatter);
+  Eigen::Vector3d up = eig.eigenvectors().col(0);
+  // All x axes (nearly) parallel: the orthogonal plane holds no single
+  // direction; the mean image up is then the best guess.
+  if (eig.eigenvalues()(1) < 0.05 * eig.eigenvalues()(2)) {
+    U4D_CHECK(image_up.norm() > 1e-9, "RigUpDirection: the cameras' up directions cancel out");
+    return image_up.normalized();
+  }
+  return up.dot(image_up) < 0 ? -up : up;
+}
+
+std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
+                                            const std::vector<cv::Mat>& instances,
+                                            const InitOptions& options, OccupancyMap* map) {
+  options.Check();
+  const int nv = static_cast<int>(cameras.size());
+  U4D_CHECK(nv >= 2, "SeparatePeopleOnGround: needs at least 2 views, found {}", nv);
+  U4D_CHECK(instances.size() == cameras.size(),
+            "SeparatePeopleOnGround: {} instance images for {} cameras", instances.size(),
+            cameras.size());
+  std::vector<cv::Mat> masks(nv);
+  for (int v = 0; v < nv; ++v) {
+    cameras[v].Check(fmt::format("SeparatePeopleOnGround: camera {}", v));
+    U4D_CHECK(!instances[v].empty() && instances[v].type() == CV_16UC1,
+              "SeparatePeopleOnGround: instances {} must be a non-empty CV_16UC1 image", v);
+    U4D_CHECK(instances[v].cols == cameras[v].width && instances[v].rows == cameras[v].height,
+              "SeparatePeopleOnGround: instances {} are {}x{}, its camera {}x{}", v,
+              instances[v].cols, instances[v].rows, cameras[v].width, cameras[v].height);
+    masks[v] = instances[v] > 0;
+  }
+
+  OccupancyMap m = MakeGrid(cameras, options);
+  // Reduced masks, as in the cross-view check.
+  const ReducedMasks reduced =
+      ReduceMasks(cameras, masks, options.occupancy_max_side, options.consistency_dilation_px);
+  const std::vector<uint8_t> occupied = OccupiedVoxels(m, reduced, options);
+  int candidates = 0;
+  const cv::Mat person = CandidatePeople(occupied, options, &m, &candidates);
+  const std::vector<std::vector<Ray>> rays = CastRays(m, person, occupied, reduced);
+  const std::vector<uint16_t> final_id = RemovePhantoms(rays, person, candidates, options, &m);
   std::vector<cv::Mat> out(nv);
   tbb::parallel_for(0, nv, [&](int v) {
-    const cv::Mat& inst = instances[v];
-    double max_id = 0;
-    cv::minMaxLoc(inst, nullptr, &max_id);
-    const int ni = static_cast<int>(max_id) + 1, np = m.num_people + 1;
-    std::vector<std::vector<int>> first(ni, std::vector<int>(np, 0)), cross = first;
-    cv::Mat nearest = cv::Mat::zeros(source[v].size(), CV_16UC1);
-    const double sx = static_cast<double>(inst.cols) / source[v].cols;
-    const double sy = static_cast<double>(inst.rows) / source[v].rows;
-    const auto instance_at = [&](int x, int y) {
-      return inst.at<uint16_t>(std::min(inst.rows - 1, static_cast<int>((y + 0.5) * sy)),
-                               std::min(inst.cols - 1, static_cast<int>((x + 0.5) * sx)));
-    };
-    for (const Ray& r : rays[v]) {
-      const int i = instance_at(r.x, r.y);
-      const int k = final_id[first_alive(r.hits)];
-      nearest.at<uint16_t>(r.y, r.x) = static_cast<uint16_t>(k);
-      if (i == 0) continue;
-      ++first[i][k];
-      for (const uint16_t id : r.hits)
-        if (final_id[id]) ++cross[i][final_id[id]];
-    }
-    std::vector<int> person_of(ni, 0);
-    std::vector<uint8_t> paired(np, 0);
-    for (const auto* count : {&first, &cross}) {
-      struct Entry {
-        int n, i, k;
-      };
-      std::vector<Entry> entries;
-      for (int i = 1; i < ni; ++i)
-        for (int k = 1; k < np; ++k)
-          if ((*count)[i][k] > 0) entries.push_back({(*count)[i][k], i, k});
-      std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
-        return std::tie(b.n, a.i, a.k) < std::tie(a.n, b.i, b.k);
-      });
-      for (const Entry& e : entries)
-        if (!person_of[e.i] && !paired[e.k]) person_of[e.i] = e.k, paired[e.k] = 1;
-    }
-    std::vector<std::vector<uint8_t>> split(ni, std::vector<uint8_t>(np, 0));
-    for (int i = 1; i < ni; ++i) {
-      if (person_of[i]) {
-        for (int k = 1; k < np; ++k)
-          split[i][k] =
-              k == person_of[i] ||
-              (!paired[k] && first[i][k] >= options.min_split_share * first[i][person_of[i]]);
-        for (int k = 1; k < np; ++k)
-          if (k != person_of[i] && split[i][k]) paired[k] = 2;  // paired by the split
-      } else {
-        person_of[i] = static_cast<int>(std::max_element(first[i].begin() + 1, first[i].end()) -
-                                        first[i].begin());
-        if (first[i][person_of[i]] == 0) person_of[i] = 0;
-      }
-    }
-    // Nearest person per pixel at full resolution, for the merged instances.
-    cv::Mat up;
-    cv::resize(nearest, up, inst.size(), 0, 0, cv::INTER_NEAREST);
-    const cv::Mat fg = inst > 0;
-    const cv::Mat near_full =
-        FillFromNearestId(up, fg, options.occupancy_fill_fraction * inst.rows);
-    out[v] = cv::Mat::zeros(inst.size(), CV_16UC1);
-    for (int y = 0; y < inst.rows; ++y)
-      for (int x = 0; x < inst.cols; ++x) {
-        const int i = inst.at<uint16_t>(y, x);
-        if (i == 0 || person_of[i] == 0) continue;
-        // Pixels far from any ray that meets a person (light, clutter
-        // grouped with a person) are dropped.
-        const int k = near_full.at<uint16_t>(y, x);
-        if (k > 0)
-          out[v].at<uint16_t>(y, x) = static_cast<uint16_t>(split[i][k] ? k : person_of[i]);
-      }
+    out[v] = NameInstances(instances[v], rays[v], reduced.source[v].size(), final_id, m.num_people,
+                           options);
   });
   if (map != nullptr) *map = std::move(m);
   return out;
