@@ -53,11 +53,14 @@ InstanceAssociation IdentityAssociation(const std::vector<cv::Mat>& masks) {
     if (masks[v].empty()) continue;
     cv::Mat ids;
     masks[v].convertTo(ids, CV_32S);
+    std::set<int> present;  // one set lookup per run of equal ids, not per pixel
+    int last = 0;
     for (auto it = ids.begin<int>(); it != ids.end<int>(); ++it)
-      if (*it > 0) {
-        a.object_of[v][*it] = *it;
-        a.num_objects = std::max(a.num_objects, *it);
-      }
+      if (*it > 0 && *it != last) present.insert(last = *it);
+    for (const int id : present) {
+      a.object_of[v][id] = id;
+      a.num_objects = std::max(a.num_objects, id);
+    }
   }
   return a;
 }

@@ -19,7 +19,9 @@
 // that most of its silhouette points' other observations belong to. A view
 // where an object has neither enough feature points nor enough silhouette
 // points (RegionOptions::min_points) gets no depth range for it, and the
-// object's pixels there go back to background.
+// object's pixels there go back to background. Masks whose ids are already
+// alike across views (init.h's step 6) skip the association: mask id k is
+// object k.
 // Identities through time: an object takes the id of the previous frame's
 // object whose sparse-point centroid is nearest, when within
 // `max_centroid_jump_m` (greedy, nearest pairs first); otherwise a new id.
