@@ -148,24 +148,41 @@ struct Problem {
     if (t().motion_reg && grid.IsActive(p) && grid.IsActive(q)) {
       double wr = 0.5 * (reg_weight[p] + reg_weight[q]);
       if (o->motion_reg_edge_aware) wr *= reg_edge[Direction(p, q, width)][p];
-      const auto rho = [&] {
-        const double tau = o->motion_truncation_px;
-        if (o->motion_reg_quadratic) return std::min((mp - mq).squaredNorm() / (tau * tau), 1.0);
-        return std::min(static_cast<double>((mp - mq).norm()), tau) / tau;
-      };
       switch (o->motion_reg_boundary) {
         case MotionRegBoundary::kFree:
-          if (lp == lq) e += wr * rho();
+          if (lp == lq) e += wr * MotionRho(mp, mq);
           break;
         case MotionRegBoundary::kDiscontinuity:
-          e += wr * (lp == lq ? rho() : 1.0);
+          e += wr * (lp == lq ? MotionRho(mp, mq) : 1.0);
           break;
         case MotionRegBoundary::kIgnoreLabels:
-          e += wr * rho();
+          e += wr * MotionRho(mp, mq);
           break;
       }
     }
     return e;
+  }
+  // E_r's robust function of a motion difference, in [0, 1].
+  double MotionRho(const Eigen::Vector2f& mp, const Eigen::Vector2f& mq) const {
+    const double tau = o->motion_truncation_px;
+    if (o->motion_reg_quadratic) return std::min((mp - mq).squaredNorm() / (tau * tau), 1.0);
+    return std::min(static_cast<double>((mp - mq).norm()), tau) / tau;
+  }
+  // The weight of E_r's pair p < q at the current labels where it depends on
+  // the motions (0 where it does not): PairMotion = weight * MotionRho + a
+  // part independent of the motions.
+  double MotionRegWeight(int p, int q) const {
+    if (!t().motion_reg || !grid.IsActive(p) || !grid.IsActive(q)) return 0;
+    if (o->motion_reg_boundary != MotionRegBoundary::kIgnoreLabels && l[p] != l[q]) return 0;
+    double wr = 0.5 * (reg_weight[p] + reg_weight[q]);
+    if (o->motion_reg_edge_aware) wr *= reg_edge[Direction(p, q, width)][p];
+    return wr;
+  }
+  // max over y of MotionRho(from, y) - MotionRho(to, y).
+  double MotionRhoDecreaseBound(const Eigen::Vector2f& from, const Eigen::Vector2f& to) const {
+    const double distance = (from - to).norm() / o->motion_truncation_px;
+    return o->motion_reg_quadratic ? mrf::TruncatedQuadraticDecreaseBound(distance)
+                                   : mrf::TruncatedLinearDecreaseBound(distance);
   }
   double Energy() const;
 
@@ -278,23 +295,67 @@ struct LabelOnlyEnergy : mrf::GridEnergy {
     return lp != lq && pr.t().contrast ? pr.contrast[Direction(p, q, pr.width)][p] : 0.0;
   }
 };
+// Per pixel, the sum over its 8 neighbours q of weight(p, q) (each pair once
+// per side; weight(p, q) is given with p < q).
+template <typename Weight>
+std::vector<double> NeighbourWeightSums(const Problem& pr, const Weight& weight) {
+  std::vector<double> sums(pr.n, 0.0);
+  tbb::parallel_for(0, pr.height, [&](int y) {
+    for (int x = 0; x < pr.width; ++x) {
+      const int p = y * pr.width + x;
+      double s = 0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int qx = x + dx, qy = y + dy;
+          if ((dx == 0 && dy == 0) || qx < 0 || qy < 0 || qx >= pr.width || qy >= pr.height)
+            continue;
+          const int q = qy * pr.width + qx;
+          s += q > p ? weight(p, q) : weight(q, p);
+        }
+      sums[p] = s;
+    }
+  });
+  return sums;
+}
+
 // Needs pr.FillPairCache(kMotion) at the current l and mv.
 struct DepthBlock : mrf::GridEnergy {
   const Problem& pr;
-  explicit DepthBlock(const Problem& p) : pr(p) {}
+  // Per pixel, the weight of E_s over its pairs (λ_s λ_spatial per neighbour
+  // with its label, both in the region of interest).
+  std::vector<double> smooth_weight;
+  explicit DepthBlock(const Problem& p) : pr(p) {
+    const double w = pr.t().smooth ? pr.w().smooth * pr.w().smooth_spatial : 0.0;
+    smooth_weight = NeighbourWeightSums(pr, [&](int a, int b) {
+      return pr.l[a] == pr.l[b] && pr.grid.IsActive(a) && pr.grid.IsActive(b) ? w : 0.0;
+    });
+  }
   double Unary(int p, int label) const override { return pr.DepthUnary(p, label, pr.mv[p]); }
   double Pairwise(int p, int q, int dp, int dq) const override {
     return pr.PairLabelDepth(p, q, pr.l[p], pr.l[q], dp, dq) + pr.Cached(p, q);
+  }
+  // E_s is a weighted metric of the depth labels (DepthPair), the rest of
+  // the pair does not depend on them.
+  double PairwiseDecreaseBound(int p, int from, int to) const override {
+    return smooth_weight[p] * pr.DepthPair(from, to);
   }
 };
 // Needs pr.FillPairCache(kLabelDepth) at the current l and d.
 struct MotionBlock : mrf::GridEnergy {
   const Problem& pr;
-  explicit MotionBlock(const Problem& p) : pr(p) {}
+  // Per pixel, the weight of E_r over its pairs whose E_r depends on the motions.
+  std::vector<double> reg_weight;
+  explicit MotionBlock(const Problem& p) : pr(p) {
+    reg_weight = NeighbourWeightSums(pr, [&](int a, int b) { return pr.MotionRegWeight(a, b); });
+  }
   double Unary(int p, int label) const override { return pr.MotionUnary(p, label, pr.d[p]); }
   double Pairwise(int p, int q, int mp, int mq) const override {
     return pr.Cached(p, q) +
            pr.PairMotion(p, q, pr.l[p], pr.l[q], pr.motion.motions[mp], pr.motion.motions[mq]);
+  }
+  double PairwiseDecreaseBound(int p, int from, int to) const override {
+    return reg_weight[p] *
+           pr.MotionRhoDecreaseBound(pr.motion.motions[from], pr.motion.motions[to]);
   }
 };
 // Fusion of the current motion (binary label 0) with a proposal (label 1):

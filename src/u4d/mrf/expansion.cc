@@ -28,6 +28,14 @@ void ExpansionOptions::Check() const {
             "ExpansionOptions.algorithm: unknown value {}", static_cast<int>(algorithm));
 }
 
+double GridEnergy::PairwiseDecreaseBound(int, int, int) const { return kInfiniteCost; }
+
+double TruncatedLinearDecreaseBound(double distance) { return std::min(distance, 1.0); }
+
+double TruncatedQuadraticDecreaseBound(double distance) {
+  return distance >= 1 ? 1.0 : 2 * distance - distance * distance;
+}
+
 namespace {
 
 struct Offset {
@@ -160,12 +168,16 @@ MoveResult Move(const GridGraph& grid, const GridEnergy& energy, const Proposal&
       if (!grid.IsActive(p)) continue;
       const int a = proposal(p);
       if (a == labels[p]) continue;
+      const double rise =
+          energy.Unary(p, a) - (ws.Cached() ? ws.current_unary[p] : energy.Unary(p, labels[p]));
+      // The proposal cannot pay off at p: p keeps its label in every minimiser.
+      if (rise > 0 && rise > energy.PairwiseDecreaseBound(p, labels[p], a)) continue;
       ws.node_of[p] = static_cast<int>(ws.node_pixel.size());
       ws.node_pixel.push_back(p);
-      ws.unary.push_back(energy.Unary(p, a) -
-                         (ws.Cached() ? ws.current_unary[p] : energy.Unary(p, labels[p])));
+      ws.unary.push_back(rise);
     }
   const int num_nodes = static_cast<int>(ws.node_pixel.size());
+  result.graph_nodes = num_nodes;
   if (num_nodes == 0) return result;
   ws.graph.Reset(num_nodes);
 
@@ -353,6 +365,7 @@ ExpansionSummary AlphaExpansion(const GridGraph& grid, const GridEnergy& energy,
       const MoveResult r = Move(
           grid, energy, [alpha](int) { return alpha; }, *labels, e, options.algorithm, ws);
       ++summary.moves;
+      summary.graph_nodes += r.graph_nodes;
       if (r.accepted) {
         ++accepted;
         e = r.energy_after;

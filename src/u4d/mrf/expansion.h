@@ -26,7 +26,9 @@
 // Active pixels: only pixels with grid.active[p] != 0 (all when `active` is
 // empty) are optimised; the others keep their labels, and their pairwise
 // terms with active neighbours act as unary terms on the active side.
-// Pixels whose current label equals the proposal are not graph nodes either.
+// Pixels whose current label equals the proposal are not graph nodes either,
+// nor are pixels the energy's PairwiseDecreaseBound shows cannot take the
+// proposal in any minimiser of the move (see there).
 //
 // Failure modes: labels of the wrong size or negative, a bad grid or bad
 // options throw u4d::Error.
@@ -69,7 +71,29 @@ class GridEnergy {
   virtual double Unary(int pixel, int label) const = 0;
   // Cost of the neighbour pair p < q taking (label_p, label_q); finite, >= 0.
   virtual double Pairwise(int p, int q, int label_p, int label_q) const = 0;
+  // An upper bound of how much the pairwise terms of `pixel` can decrease
+  // when it switches from label `from` to label `to`, whatever labels its
+  // neighbours hold: >= sum over neighbours q of max over y of
+  // [Pairwise(pixel, q, from, y) - Pairwise(pixel, q, to, y)] (arguments in
+  // the pair's order). A move leaves out of its graph a pixel whose unary
+  // rises by more than this on taking the proposal: the pixel keeps its label
+  // in every minimiser of the move, so the move's result is the same, and
+  // the cut is smaller. For a pairwise term c_pq + w_pq * d(a, b) with d a
+  // metric, w_pq * d(from, to) per neighbour is such a bound (triangle
+  // inequality). The default, kInfiniteCost, leaves every pixel in the graph.
+  // A bound below the true maximum is the caller's bug: moves still never
+  // raise the energy, but may miss their best labelling.
+  virtual double PairwiseDecreaseBound(int pixel, int from, int to) const;
 };
+
+// Bounds for GridEnergy::PairwiseDecreaseBound with robust pairwise terms
+// rho(|a - b|) of a distance in units of the truncation (a >= 0 argument):
+// max over y of rho(|x - y|) - rho(|z - y|) when |x - z| = distance.
+//  - truncated linear rho(s) = min(s, 1), a metric: min(distance, 1);
+//  - truncated quadratic rho(s) = min(s^2, 1): 2 d - d^2 for d < 1 (reached
+//    where |z - y| = 1 - d), 1 from d >= 1.
+double TruncatedLinearDecreaseBound(double distance);
+double TruncatedQuadraticDecreaseBound(double distance);
 
 // E(labels) over all pixels (active or not). Throws on a wrong labels size.
 double Energy(const GridGraph& grid, const GridEnergy& energy, const std::vector<int>& labels);
@@ -78,6 +102,7 @@ struct MoveResult {
   double energy_before = 0, energy_after = 0;  // true energies; equal when not accepted
   bool accepted = false;                       // the labelling changed (energy decreased)
   int changed_pixels = 0;                      // pixels that took the proposal (0 if rejected)
+  int graph_nodes = 0;                         // pixels in the move's graph
   int nonsubmodular_terms = 0;                 // pairwise terms truncated in this move
 };
 
@@ -107,6 +132,7 @@ struct ExpansionOptions {
 struct ExpansionSummary {
   double initial_energy = 0, final_energy = 0;
   int sweeps = 0, moves = 0, accepted_moves = 0;
+  long long graph_nodes = 0;               // summed over the moves
   std::vector<double> energy_after_sweep;  // one per sweep
   double seconds = 0;                      // wall time
 };

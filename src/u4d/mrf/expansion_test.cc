@@ -26,6 +26,7 @@ class TableEnergy : public GridEnergy {
   }
   double& unary(int p, int l) { return unary_[p * num_labels_ + l]; }
   double& table(int a, int b) { return table_[a * num_labels_ + b]; }
+  double Table(int a, int b) const { return table_[a * num_labels_ + b]; }
   // A per-pair weight, hashed from (p, q) into a pixel-indexed slot.
   double Weight(int p, int q) const {
     return pair_weight_[(p * 8 + (q - p) % 8 + 8) % pair_weight_.size()];
@@ -256,6 +257,103 @@ TEST(ExpansionTest, InactivePixelsAreUntouched) {
   }
   EXPECT_GT(moved, 0);
   EXPECT_LT(s.final_energy, s.initial_energy);
+}
+
+// TableEnergy with a symmetric metric table that declares the metric bound:
+// per neighbour, weight(p, q) * table(from, to) (triangle inequality).
+class MetricEnergy : public TableEnergy {
+ public:
+  MetricEnergy(const GridGraph& grid, int num_labels)
+      : TableEnergy(grid.NumPixels(), num_labels), grid_(grid) {}
+  double PairwiseDecreaseBound(int p, int from, int to) const override {
+    ++bound_calls;
+    double sum = 0;
+    for (const auto& [a, b] : NeighbourPairs(grid_))
+      if (a == p || b == p) sum += Weight(a, b);
+    return sum * Table(from, to);
+  }
+  mutable int bound_calls = 0;
+
+ private:
+  GridGraph grid_;
+};
+
+// The same energy without the bound (every pixel a graph node).
+class UnboundedEnergy : public GridEnergy {
+ public:
+  explicit UnboundedEnergy(const GridEnergy& e) : e_(e) {}
+  double Unary(int p, int l) const override { return e_.Unary(p, l); }
+  double Pairwise(int p, int q, int lp, int lq) const override { return e_.Pairwise(p, q, lp, lq); }
+
+ private:
+  const GridEnergy& e_;
+};
+
+// Leaving out the pixels the bound shows cannot take the proposal changes
+// no move's result: alpha-expansion on a weighted truncated-linear energy
+// ends at the same labelling and energy, with fewer graph nodes.
+TEST(ExpansionTest, PairwiseDecreaseBoundKeepsEveryMoveAndShrinksTheGraph) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const int num_labels = 12;
+  long long nodes_bounded = 0, nodes_unbounded = 0;
+  for (int trial = 0; trial < 6; ++trial) {
+    const GridGraph grid = MakeGrid(14, 11, trial % 2 ? 8 : 4);
+    MetricEnergy energy(grid, num_labels);
+    for (int a = 0; a < num_labels; ++a)
+      for (int b = 0; b < num_labels; ++b) energy.table(a, b) = std::min(std::abs(a - b), 3) / 3.0;
+    for (double& wgt : energy.pair_weights()) wgt = 0.3 * u(rng);
+    // Piecewise-constant truth with noise: most labels are far too costly at most pixels.
+    for (int p = 0; p < grid.NumPixels(); ++p) {
+      const int truth = (p % grid.width) * num_labels / grid.width;
+      for (int l = 0; l < num_labels; ++l)
+        energy.unary(p, l) = 0.5 * std::abs(l - truth) + 0.8 * u(rng);
+    }
+    std::vector<int> start(grid.NumPixels());
+    for (int& l : start) l = static_cast<int>(rng() % num_labels);
+    std::vector<int> candidates(num_labels);
+    for (int l = 0; l < num_labels; ++l) candidates[l] = l;
+    ExpansionOptions options;
+    options.algorithm = kAlgorithms[trial % 2];
+    std::vector<int> bounded = start, unbounded = start;
+    const ExpansionSummary a = AlphaExpansion(grid, energy, candidates, &bounded, options);
+    const ExpansionSummary b =
+        AlphaExpansion(grid, UnboundedEnergy(energy), candidates, &unbounded, options);
+    EXPECT_GT(energy.bound_calls, 0);
+    EXPECT_NEAR(a.final_energy, b.final_energy, 1e-9 * (1 + std::abs(b.final_energy)));
+    EXPECT_EQ(bounded, unbounded);
+    EXPECT_EQ(a.sweeps, b.sweeps);
+    nodes_bounded += a.graph_nodes;
+    nodes_unbounded += b.graph_nodes;
+  }
+  EXPECT_LT(nodes_bounded, nodes_unbounded / 2);
+}
+
+// max over y of rho(|x - y|) - rho(|z - y|) against a dense search over y
+// on the line through x and z (where the maximum lies), and never above the
+// bound at random points of the plane.
+TEST(ExpansionTest, TruncatedDecreaseBoundsAreTight) {
+  const auto linear = [](double s) { return std::min(s, 1.0); };
+  const auto quadratic = [](double s) { return std::min(s * s, 1.0); };
+  for (const double d : {0.0, 0.1, 0.35, 0.5, 0.9, 1.0, 1.7}) {
+    double max_linear = -1, max_quadratic = -1;
+    for (int i = -4000; i <= 4000; ++i) {
+      const double y = i * 1e-3;  // x = 0, z = d on the line
+      max_linear = std::max(max_linear, linear(std::abs(y)) - linear(std::abs(d - y)));
+      max_quadratic = std::max(max_quadratic, quadratic(std::abs(y)) - quadratic(std::abs(d - y)));
+    }
+    EXPECT_NEAR(max_linear, TruncatedLinearDecreaseBound(d), 2e-3) << d;
+    EXPECT_NEAR(max_quadratic, TruncatedQuadraticDecreaseBound(d), 2e-3) << d;
+  }
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  for (int i = 0; i < 20000; ++i) {
+    const double x0 = u(rng), x1 = u(rng), z0 = u(rng), z1 = u(rng), y0 = u(rng), y1 = u(rng);
+    const double d = std::hypot(x0 - z0, x1 - z1);
+    const double sx = std::hypot(x0 - y0, x1 - y1), sz = std::hypot(z0 - y0, z1 - y1);
+    ASSERT_LE(linear(sx) - linear(sz), TruncatedLinearDecreaseBound(d) + 1e-12);
+    ASSERT_LE(quadratic(sx) - quadratic(sz), TruncatedQuadraticDecreaseBound(d) + 1e-12);
+  }
 }
 
 TEST(ExpansionTest, NeighbourPairsOrderAndCount) {
