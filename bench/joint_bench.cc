@@ -16,7 +16,7 @@
 //       [--reg-linear] [--no-reg-edge] [--force-merge] [--no-split-merged]
 //       [--per-view] [--dump DIR] [--pose-3d-own-label] [--semantic-temporal]
 //       [--occluder-limb-radius M] [--appearance-refits N] [--appearance-inset PX]
-//       [--no-carry-depth]
+//       [--no-carry-depth] [--depth-coarse-step N] [--sweeps N]
 // --per-view: one line per method and view-frame (IoU, depth within 5 %, flow
 // EPE), for paired comparisons of the ablations. --dump DIR: per view-frame
 // f<frame>_v<view>_<name>: the initial, GT and each method's labels (16-bit
@@ -90,6 +90,8 @@ struct Args {
   int appearance_refits = -1;      // JointViewOptions::appearance_refits (-1 = default)
   int appearance_inset = -1;       // LabelCostOptions::appearance_inset_px (-1 = default)
   bool carry_depth = true;         // JointViewOptions::label_moves_carry_depth
+  int depth_coarse_step = -1;      // JointViewOptions::depth_coarse_step (-1 = default)
+  int sweeps = -1;                 // JointViewOptions::sweeps_per_block (-1 = default)
   std::string dump;  // folder: per view-frame labels, depth, truth and pose map (diagnosis)
 };
 
@@ -153,6 +155,10 @@ Args ParseArgs(int argc, char** argv) {
       a.appearance_inset = std::stoi(next());
     else if (k == "--no-carry-depth")
       a.carry_depth = false;
+    else if (k == "--depth-coarse-step")
+      a.depth_coarse_step = std::stoi(next());
+    else if (k == "--sweeps")
+      a.sweeps = std::stoi(next());
     else
       throw Error(fmt::format(
           "joint_bench: unknown argument '{}' (expected --views, --width, --height, --frames, "
@@ -275,6 +281,8 @@ int main(int argc, char** argv) try {
     if (args.appearance_inset >= 0) options.labels.appearance_inset_px = args.appearance_inset;
     options.semantic_temporal = args.semantic_temporal;
     options.label_moves_carry_depth = args.carry_depth;
+    if (args.depth_coarse_step >= 0) options.depth_coarse_step = args.depth_coarse_step;
+    if (args.sweeps >= 0) options.sweeps_per_block = args.sweeps;
     if (args.occluder_limb >= 0) options.pose.occluder_limb_radius_m = args.occluder_limb;
     if (args.reg_boundary == "free")
       options.motion_reg_boundary = MotionRegBoundary::kFree;

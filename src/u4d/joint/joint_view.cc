@@ -339,6 +339,14 @@ struct DepthBlock : mrf::GridEnergy {
   double PairwiseDecreaseBound(int p, int from, int to) const override {
     return smooth_weight[p] * pr.DepthPair(from, to);
   }
+  // The fine pass after a coarse one (JointViewOptions::depth_coarse_step):
+  // a pixel with a depth may move by up to `band` labels or to U; one at U
+  // may take any depth. band < 0: no restriction.
+  int band = -1;
+  bool MayTake(int, int current, int proposal) const override {
+    if (band < 0 || proposal == pr.unknown) return true;
+    return current == pr.unknown || std::abs(current - proposal) <= band;
+  }
 };
 // Needs pr.FillPairCache(kLabelDepth) at the current l and d.
 struct MotionBlock : mrf::GridEnergy {
@@ -490,6 +498,8 @@ void JointViewOptions::Check() const {
   U4D_CHECK(rounds >= 1, "JointViewOptions.rounds must be >= 1, got {}", rounds);
   U4D_CHECK(sweeps_per_block >= 1, "JointViewOptions.sweeps_per_block must be >= 1");
   U4D_CHECK(depth_truncation > 0, "JointViewOptions.depth_truncation must be > 0");
+  U4D_CHECK(depth_coarse_step >= 0, "JointViewOptions.depth_coarse_step must be >= 0, got {}",
+            depth_coarse_step);
   U4D_CHECK(motion_truncation_px > 0, "JointViewOptions.motion_truncation_px must be > 0");
   U4D_CHECK(roi_margin_px >= 0, "JointViewOptions.roi_margin_px must be >= 0");
   U4D_CHECK(appearance_refits >= 0, "JointViewOptions.appearance_refits must be >= 0, got {}",
@@ -726,6 +736,13 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
   for (int i = 0; i < in.num_labels; ++i) label_candidates[i] = i;
   for (int i = 0; i <= pr.unknown; ++i) depth_candidates[i] = i;
   for (int i = 0; i < num_motions; ++i) motion_candidates[i] = i;
+  // The coarse depth pass: every depth_coarse_step-th depth, the farthest and U.
+  std::vector<int> depth_coarse;
+  if (o.depth_coarse_step > 1) {
+    for (int i = 0; i < pr.unknown; i += o.depth_coarse_step) depth_coarse.push_back(i);
+    if (depth_coarse.back() != pr.unknown - 1) depth_coarse.push_back(pr.unknown - 1);
+    depth_coarse.push_back(pr.unknown);
+  }
   double block_seconds[3] = {0, 0, 0}, block_cpu[3] = {0, 0, 0};
   auto cpu_since = [](std::clock_t start) {
     return static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
@@ -750,7 +767,12 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
     block_timer = Timer();
     block_start = std::clock();
     pr.FillPairCache(Problem::CachedPart::kMotion);
-    mrf::AlphaExpansion(pr.grid, DepthBlock(pr), depth_candidates, &pr.d, eo);
+    DepthBlock depth_block(pr);
+    if (!depth_coarse.empty()) {
+      mrf::AlphaExpansion(pr.grid, depth_block, depth_coarse, &pr.d, eo);
+      depth_block.band = o.depth_coarse_step;
+    }
+    mrf::AlphaExpansion(pr.grid, depth_block, depth_candidates, &pr.d, eo);
     result.energy_trace.push_back({"depth", pr.Energy(), block_timer.Seconds()});
     block_seconds[1] += result.energy_trace.back().seconds;
     block_cpu[1] += cpu_since(block_start);
@@ -783,6 +805,15 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
       if (o.fusion.deepflow) {
         cv::Mat f;
         cv::optflow::createOptFlow_DeepFlow()->calc(a, b, f);
+        external.push_back(f);
+      }
+      if (o.fusion.dis_fine) {
+        cv::Mat f;
+        const cv::Ptr<cv::DISOpticalFlow> dis =
+            cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM);
+        dis->setFinestScale(0);
+        dis->setVariationalRefinementIterations(10);
+        dis->calc(a, b, f);
         external.push_back(f);
       }
       if (o.fusion.dis) {

@@ -32,8 +32,9 @@
 //
 // Flow fusion: after the blocks the motion is made continuous: fusion moves
 // (mrf::FusionMove, Lempitsky et al. 2010) of the current field with dense
-// proposals (the discrete solution refined by parabola fits, OpenCV DeepFlow,
-// DIS, their mean, the current field smoothed) under the full energy with l and
+// proposals (the discrete solution refined by parabola fits, OpenCV DIS at
+// its finest scale and at the medium preset, their mean, the current field
+// smoothed; FlowFusionOptions) under the full energy with l and
 // d fixed. E_f of a sub-pixel motion is FlowFieldCosts (bilinear sampling, same
 // patch and truncation as the volume); its e_F^S is that of the nearest
 // integer offset in M (forbidden when that offset is not in M). The energy is
@@ -84,10 +85,15 @@ enum class MotionRegBoundary {
 // continuous and is improved by fusion moves (mrf::FusionMove) of the current
 // field with dense proposals under the full energy, l and d fixed.
 struct FlowFusionOptions {
-  bool enabled = true;   // run the stage (only when E_f is on: the proposals are photometric)
-  bool refined = true;   // proposal: the discrete solution refined by parabola fits of E_f
-  bool deepflow = true;  // proposal: OpenCV DeepFlow of the reference view t -> t+1
-  bool dis = true;       // proposal: OpenCV DIS (medium preset); with DeepFlow also their mean
+  bool enabled = true;    // run the stage (only when E_f is on: the proposals are photometric)
+  bool refined = true;    // proposal: the discrete solution refined by parabola fits of E_f
+  bool deepflow = false;  // proposal: OpenCV DeepFlow of the reference view t -> t+1
+  // Proposal: OpenCV DIS (medium preset) down to the finest pyramid scale
+  // (setFinestScale(0)) with 10 variational refinement iterations. It replaced
+  // DeepFlow as the default: lower EPE in less time (docs/joint.md, "Speed").
+  bool dis_fine = true;
+  bool dis = true;  // proposal: OpenCV DIS (medium preset)
+  // With exactly two of the three above, their mean is a proposal too.
   bool smoothed = true;  // proposal: the current field, Gaussian-smoothed (σ = 1 px, 5x5)
   int rounds = 2;        // passes over the proposals (>= 1)
   void Check() const;    // throws u4d::Error naming the bad field
@@ -106,7 +112,12 @@ struct JointViewOptions {
   // by < 0.1 % and left IoU, depth and EPE unchanged on both joint_bench
   // presets while costing a third of the blocks' time (docs/joint.md, "Speed").
   int sweeps_per_block = 1;
-  double depth_truncation = 4;      // τ_d, depth label steps
+  double depth_truncation = 4;  // τ_d, depth label steps
+  // Coarse-to-fine depth block: > 1 runs the expansion first over every
+  // depth_coarse_step-th depth (and U), then over all depths with each pixel
+  // allowed to move by at most depth_coarse_step labels (mrf::GridEnergy::MayTake);
+  // 0 or 1: one pass over all depths, every pixel a candidate for each.
+  int depth_coarse_step = 0;
   double motion_truncation_px = 4;  // τ_m, pixels (working resolution)
   // E_r's distance: min(|Δm|², τ_m²) / τ_m² (the paper's squared difference; true) or
   // min(|Δm|, τ_m) / τ_m (a metric, every expansion move submodular; false).

@@ -30,6 +30,8 @@ void ExpansionOptions::Check() const {
 
 double GridEnergy::PairwiseDecreaseBound(int, int, int) const { return kInfiniteCost; }
 
+bool GridEnergy::MayTake(int, int, int) const { return true; }
+
 double TruncatedLinearDecreaseBound(double distance) { return std::min(distance, 1.0); }
 
 double TruncatedQuadraticDecreaseBound(double distance) {
@@ -167,7 +169,7 @@ MoveResult Move(const GridGraph& grid, const GridEnergy& energy, const Proposal&
     for (int p = y * w + box.x0; p <= y * w + box.x1; ++p) {
       if (!grid.IsActive(p)) continue;
       const int a = proposal(p);
-      if (a == labels[p]) continue;
+      if (a == labels[p] || !energy.MayTake(p, labels[p], a)) continue;
       const double rise =
           energy.Unary(p, a) - (ws.Cached() ? ws.current_unary[p] : energy.Unary(p, labels[p]));
       // The proposal cannot pay off at p: p keeps its label in every minimiser.

@@ -28,7 +28,8 @@
 // terms with active neighbours act as unary terms on the active side.
 // Pixels whose current label equals the proposal are not graph nodes either,
 // nor are pixels the energy's PairwiseDecreaseBound shows cannot take the
-// proposal in any minimiser of the move (see there).
+// proposal in any minimiser of the move, or that its MayTake keeps from it
+// (see there).
 //
 // Failure modes: labels of the wrong size or negative, a bad grid or bad
 // options throw u4d::Error.
@@ -84,6 +85,13 @@ class GridEnergy {
   // A bound below the true maximum is the caller's bug: moves still never
   // raise the energy, but may miss their best labelling.
   virtual double PairwiseDecreaseBound(int pixel, int from, int to) const;
+  // Whether `pixel`, labelled `current`, may take `proposal` in a move
+  // (default: always). A caller's restriction of the moves (for example to
+  // labels near the current one, after a pass over a coarse label set): the
+  // move is then solved exactly over the pixels allowed, the others keep
+  // their labels, and the energy still never increases; what the restriction
+  // costs in the final energy is the caller's to measure.
+  virtual bool MayTake(int pixel, int current, int proposal) const;
 };
 
 // Bounds for GridEnergy::PairwiseDecreaseBound with robust pairwise terms

@@ -356,6 +356,67 @@ TEST(ExpansionTest, TruncatedDecreaseBoundsAreTight) {
   }
 }
 
+// TableEnergy whose moves may only change labels by up to `band`, and only
+// at pixels with x >= min_x.
+class RestrictedEnergy : public TableEnergy {
+ public:
+  RestrictedEnergy(int width, int height, int num_labels)
+      : TableEnergy(width * height, num_labels), width_(width) {}
+  bool MayTake(int p, int current, int proposal) const override {
+    return p % width_ >= min_x && std::abs(current - proposal) <= band;
+  }
+  int band = 1000, min_x = 0;
+
+ private:
+  int width_;
+};
+
+// MayTake keeps pixels out of the moves: pixels it bars keep their labels
+// (the same result as making them inactive), and a banded move cannot jump.
+TEST(ExpansionTest, MayTakeRestrictsTheMoves) {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const int w = 12, h = 9, num_labels = 6;
+  const GridGraph grid = MakeGrid(w, h, 8);
+  RestrictedEnergy energy(w, h, num_labels);
+  for (int a = 0; a < num_labels; ++a)
+    for (int b = 0; b < num_labels; ++b) energy.table(a, b) = std::min(std::abs(a - b), 2) * 0.5;
+  for (double& wgt : energy.pair_weights()) wgt = 0.4 * u(rng);
+  for (int p = 0; p < grid.NumPixels(); ++p)
+    for (int l = 0; l < num_labels; ++l) energy.unary(p, l) = 3 * u(rng);
+  std::vector<int> candidates(num_labels);
+  for (int l = 0; l < num_labels; ++l) candidates[l] = l;
+  const std::vector<int> start(grid.NumPixels(), 0);
+
+  // Barred columns = inactive columns.
+  energy.min_x = 5;
+  std::vector<int> barred = start;
+  const ExpansionSummary a = AlphaExpansion(grid, energy, candidates, &barred);
+  energy.min_x = 0;
+  GridGraph half = grid;
+  half.active.assign(grid.NumPixels(), 0);
+  for (int p = 0; p < grid.NumPixels(); ++p) half.active[p] = p % w >= 5;
+  std::vector<int> inactive = start;
+  const ExpansionSummary b = AlphaExpansion(half, energy, candidates, &inactive);
+  EXPECT_EQ(barred, inactive);
+  EXPECT_NEAR(a.final_energy, b.final_energy, 1e-9);
+  EXPECT_LT(a.final_energy, a.initial_energy);
+  for (int p = 0; p < grid.NumPixels(); ++p) {
+    if (p % w < 5) EXPECT_EQ(barred[p], 0);
+  }
+
+  // A band of 1 from all-0: a move to label 3 changes nothing, one to 1 does.
+  energy.band = 1;
+  std::vector<int> labels = start;
+  EXPECT_EQ(ExpansionMove(grid, energy, 3, &labels).changed_pixels, 0);
+  EXPECT_EQ(labels, start);
+  for (int p = 0; p < grid.NumPixels(); ++p) energy.unary(p, 1) = 0;  // label 1 pays everywhere
+  const MoveResult r = ExpansionMove(grid, energy, 1, &labels);
+  EXPECT_TRUE(r.accepted);
+  EXPECT_LT(r.energy_after, r.energy_before);
+  EXPECT_EQ(r.changed_pixels, grid.NumPixels());
+}
+
 TEST(ExpansionTest, NeighbourPairsOrderAndCount) {
   GridGraph grid = MakeGrid(4, 3, 8);
   const auto pairs8 = NeighbourPairs(grid);
