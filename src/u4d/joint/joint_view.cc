@@ -497,6 +497,8 @@ void JointViewOptions::Check() const {
   pose.Check();
   U4D_CHECK(rounds >= 1, "JointViewOptions.rounds must be >= 1, got {}", rounds);
   U4D_CHECK(sweeps_per_block >= 1, "JointViewOptions.sweeps_per_block must be >= 1");
+  U4D_CHECK(motion_rounds >= 1, "JointViewOptions.motion_rounds must be >= 1, got {}",
+            motion_rounds);
   U4D_CHECK(depth_truncation > 0, "JointViewOptions.depth_truncation must be > 0");
   U4D_CHECK(depth_coarse_step >= 0, "JointViewOptions.depth_coarse_step must be >= 0, got {}",
             depth_coarse_step);
@@ -776,7 +778,7 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
     result.energy_trace.push_back({"depth", pr.Energy(), block_timer.Seconds()});
     block_seconds[1] += result.energy_trace.back().seconds;
     block_cpu[1] += cpu_since(block_start);
-    if (has_next) {
+    if (has_next && round < o.motion_rounds) {
       block_timer = Timer();
       block_start = std::clock();
       pr.FillPairCache(Problem::CachedPart::kLabelDepth);
