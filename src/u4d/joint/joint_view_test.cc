@@ -17,6 +17,7 @@
 #include "u4d/joint/truth_inputs.h"
 #include "u4d/synth/generate.h"
 #include "u4d/util/check.h"
+#include "u4d/util/testing.h"
 
 namespace u4d {
 namespace {
@@ -305,6 +306,12 @@ TEST(JointViewTest, RejectsInconsistentInput) {
   EXPECT_THROW(SolveJointView(in, options), Error);  // no views
   options.rounds = 0;
   EXPECT_THROW(options.Check(), Error);
+  options = JointViewOptions();
+  options.motion_rounds = 0;
+  test_util::ExpectErrorMentions([&] { options.Check(); }, {"motion_rounds"});
+  options = JointViewOptions();
+  options.depth_coarse_step = -1;
+  test_util::ExpectErrorMentions([&] { options.Check(); }, {"depth_coarse_step"});
 }
 
 TEST(JointParametersTest, AblationsSwitchTheirTerms) {
