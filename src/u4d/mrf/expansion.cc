@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "u4d/util/check.h"
 #include "u4d/util/timer.h"
@@ -28,7 +29,9 @@ void ExpansionOptions::Check() const {
             "ExpansionOptions.algorithm: unknown value {}", static_cast<int>(algorithm));
 }
 
-double GridEnergy::PairwiseDecreaseBound(int, int, int) const { return kInfiniteCost; }
+double GridEnergy::PairwiseDecreaseBound(int, int, int) const {
+  return std::numeric_limits<double>::infinity();
+}
 
 bool GridEnergy::MayTake(int, int, int) const { return true; }
 

@@ -81,7 +81,7 @@ class GridEnergy {
   // in every minimiser of the move, so the move's result is the same, and
   // the cut is smaller. For a pairwise term c_pq + w_pq * d(a, b) with d a
   // metric, w_pq * d(from, to) per neighbour is such a bound (triangle
-  // inequality). The default, kInfiniteCost, leaves every pixel in the graph.
+  // inequality). The default, +infinity, leaves every pixel in the graph.
   // A bound below the true maximum is the caller's bug: moves still never
   // raise the energy, but may miss their best labelling.
   virtual double PairwiseDecreaseBound(int pixel, int from, int to) const;

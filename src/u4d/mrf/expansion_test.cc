@@ -402,7 +402,9 @@ TEST(ExpansionTest, MayTakeRestrictsTheMoves) {
   EXPECT_NEAR(a.final_energy, b.final_energy, 1e-9);
   EXPECT_LT(a.final_energy, a.initial_energy);
   for (int p = 0; p < grid.NumPixels(); ++p) {
-    if (p % w < 5) EXPECT_EQ(barred[p], 0);
+    if (p % w < 5) {
+      EXPECT_EQ(barred[p], 0);
+    }
   }
 
   // A band of 1 from all-0: a move to label 3 changes nothing, one to 1 does.
