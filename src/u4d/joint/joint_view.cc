@@ -146,8 +146,7 @@ struct Problem {
                     const Eigen::Vector2f& mq) const {
     double e = 0;
     if (t().motion_reg && grid.IsActive(p) && grid.IsActive(q)) {
-      double wr = 0.5 * (reg_weight[p] + reg_weight[q]);
-      if (o->motion_reg_edge_aware) wr *= reg_edge[Direction(p, q, width)][p];
+      const double wr = RegPairWeight(p, q);
       switch (o->motion_reg_boundary) {
         case MotionRegBoundary::kFree:
           if (lp == lq) e += wr * MotionRho(mp, mq);
@@ -174,6 +173,11 @@ struct Problem {
   double MotionRegWeight(int p, int q) const {
     if (!t().motion_reg || !grid.IsActive(p) || !grid.IsActive(q)) return 0;
     if (o->motion_reg_boundary != MotionRegBoundary::kIgnoreLabels && l[p] != l[q]) return 0;
+    return RegPairWeight(p, q);
+  }
+  // λ_r w_r of the pair p < q: the mean of its pixels' weights, edge-aware
+  // when motion_reg_edge_aware.
+  double RegPairWeight(int p, int q) const {
     double wr = 0.5 * (reg_weight[p] + reg_weight[q]);
     if (o->motion_reg_edge_aware) wr *= reg_edge[Direction(p, q, width)][p];
     return wr;
