@@ -1,6 +1,7 @@
 #include "u4d/pipeline/pipeline.h"
 
 #include <algorithm>
+#include <array>
 #include <map>
 #include <set>
 
@@ -8,6 +9,7 @@
 #include <open3d/geometry/TriangleMesh.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 #include <opencv2/imgproc.hpp>
 
 #include "u4d/eval/evaluate.h"
@@ -291,8 +293,11 @@ std::vector<Segment> Segments(const Context& c, const KeyframeSelection& sel) {
 // One solved frame at the working resolution.
 struct SolvedFrame {
   int frame = -1;
-  std::vector<Camera> cameras;  // working resolution
-  std::vector<cv::Mat> images;  // working resolution, BGR
+  double scale = 1;                  // working resolution / camera size
+  std::vector<Camera> cameras;       // working resolution
+  std::vector<cv::Mat> images;       // working resolution, BGR
+  std::vector<Camera> full_cameras;  // camera size
+  std::vector<cv::Mat> full_images;  // camera size, BGR
   std::vector<cv::Mat> labels, depth, flow;
 };
 
@@ -300,6 +305,7 @@ SolvedFrame SolveFrame(Context& c, int f, const std::vector<std::vector<Pose3d>>
                        const std::vector<TemporalTrack>& tracks, const JointViewOptions& joint) {
   const int nv = c.NumViews();
   auto in_run = [&](int g) { return g >= c.f0 && g < c.f1; };
+  Timer timer;
   JointFrameData data;
   data.cameras_t = c.Cameras(f);
   for (int v = 0; v < nv; ++v) data.images_t.push_back(c.reader.Read(v, f));
@@ -344,6 +350,8 @@ SolvedFrame SolveFrame(Context& c, int f, const std::vector<std::vector<Pose3d>>
                cv::INTER_AREA);
     solved.images.push_back(img);
   }
+  c.log.AddSegmentPart("inputs", timer.Seconds());
+  timer.Restart();
   tbb::parallel_for(0, nv, [&](int v) {
     const Camera& cam = solved.cameras[v];
     if (has_objects && !inputs[v].objects.empty()) {
@@ -357,17 +365,24 @@ SolvedFrame SolveFrame(Context& c, int f, const std::vector<std::vector<Pose3d>>
       solved.flow[v] = cv::Mat::zeros(cam.height, cam.width, CV_32FC2);
     }
   });
-  // The scene's maps at camera size.
-  for (int v = 0; v < nv; ++v) {
-    JointViewResult r;
-    r.labels = solved.labels[v];
-    r.depth = solved.depth[v];
-    r.flow = solved.flow[v];
-    const Camera& full = data.cameras_t[v];
-    WriteViewMaps(c.out, c.names[v], f, ToCameraSize(r, full.width, full.height, scale),
-                  data.images_t[v], c.o.picture_width);
-  }
+  c.log.AddSegmentPart("solve", timer.Seconds());
+  solved.scale = scale;
+  solved.full_cameras = data.cameras_t;
+  solved.full_images = data.images_t;
   return solved;
+}
+
+// The scene's maps of a solved frame, at camera size.
+void WriteFrameMaps(const Context& c, const SolvedFrame& s) {
+  for (size_t v = 0; v < s.labels.size(); ++v) {
+    JointViewResult r;
+    r.labels = s.labels[v];
+    r.depth = s.depth[v];
+    r.flow = s.flow[v];
+    const Camera& full = s.full_cameras[v];
+    WriteViewMaps(c.out, c.names[v], s.frame, ToCameraSize(r, full.width, full.height, s.scale),
+                  s.full_images[v], c.o.picture_width);
+  }
 }
 
 std::set<int> ObjectIds(const SolvedFrame& s) {
@@ -379,45 +394,89 @@ std::set<int> ObjectIds(const SolvedFrame& s) {
   return ids;
 }
 
+// Frame f's outputs: its maps, one mesh per object (the segment's first
+// frame also starts each object's animation) and the animations tracked from
+// `previous` (frame f - 1, null at the segment's first frame) to it. Adds the
+// parts' seconds to `parts`.
+void WriteFrameOutputs(const Context& c, const Segment& seg, const SolvedFrame& current,
+                       const SolvedFrame* previous, std::map<int, AnimatedMesh>& animations,
+                       RunLog& parts) {
+  Timer timer;
+  WriteFrameMaps(c, current);
+  parts.AddSegmentPart("maps", timer.Seconds());
+  timer.Restart();
+  const int f = current.frame;
+  for (int id : ObjectIds(current)) {
+    const FusedMesh fused =
+        FuseObject(current.cameras, current.depth, current.labels, current.images, id, c.o.fusion);
+    if (fused.Empty()) continue;
+    WriteLabelledMesh(c.out / layout::SceneMesh(id, f), *fused.mesh, id);
+    if (f == seg.first) {
+      AnimatedMesh& a = animations[id];
+      a.object_id = id;
+      a.first_frame = f;
+      a.triangles = fused.mesh->triangles_;
+      for (const Eigen::Vector3d& col : fused.mesh->vertex_colors_) a.colors.push_back(col);
+      a.positions.push_back(fused.mesh->vertices_);
+    }
+  }
+  parts.AddSegmentPart("fusion", timer.Seconds());
+  timer.Restart();
+  // Scene flow: the segment's meshes from f-1 to f.
+  if (previous) {
+    std::vector<SceneFlowView> views(c.NumViews());
+    for (int v = 0; v < c.NumViews(); ++v)
+      views[v] = {previous->cameras[v], current.cameras[v],  previous->depth[v], current.depth[v],
+                  previous->flow[v],    previous->labels[v], current.labels[v]};
+    for (auto& [id, a] : animations) {
+      const TrackResult r =
+          TrackVertices(a.positions.back(), a.triangles, views, id, c.o.scene_flow);
+      a.positions.push_back(r.positions);
+      a.tracked_fraction.push_back(
+          r.positions.empty() ? 0.0 : double(r.num_tracked) / r.positions.size());
+    }
+  }
+  parts.AddSegmentPart("scene_flow", timer.Seconds());
+}
+
+// Solves the segment's frames one after the other; each frame's outputs are
+// written by a background task while the next frame is solved (the two
+// share the cores: the view solves are parallel, fusion mostly is not).
 void RunSegment(Context& c, const Segment& seg, const std::vector<std::vector<Pose3d>>& poses,
                 const std::vector<TemporalTrack>& tracks, const JointViewOptions& joint,
                 Progress* progress) {
   std::map<int, AnimatedMesh> animations;  // object id -> its mesh moving through the segment
-  SolvedFrame previous;
-  for (int f = seg.first; f <= seg.last; ++f) {
-    SolvedFrame current = SolveFrame(c, f, poses, tracks, joint);
-    // Fusion: one mesh per object.
-    for (int id : ObjectIds(current)) {
-      const FusedMesh fused = FuseObject(current.cameras, current.depth, current.labels,
-                                         current.images, id, c.o.fusion);
-      if (fused.Empty()) continue;
-      WriteLabelledMesh(c.out / layout::SceneMesh(id, f), *fused.mesh, id);
-      if (f == seg.first) {
-        AnimatedMesh& a = animations[id];
-        a.object_id = id;
-        a.first_frame = f;
-        a.triangles = fused.mesh->triangles_;
-        for (const Eigen::Vector3d& col : fused.mesh->vertex_colors_) a.colors.push_back(col);
-        a.positions.push_back(fused.mesh->vertices_);
-      }
+  // frames[0]: the frame whose outputs are being written, frames[1]: the one before it.
+  std::array<SolvedFrame, 2> frames;
+  RunLog background_parts;  // the background task's part times
+  tbb::task_group background;
+  // Waits for the background task (rethrowing its error) and takes its times.
+  auto finish = [&] {
+    background.wait();
+    for (const PartTime& part : background_parts.segment_parts)
+      c.log.AddSegmentPart(part.name, part.seconds);
+    background_parts.segment_parts.clear();
+  };
+  try {
+    for (int f = seg.first; f <= seg.last; ++f) {
+      SolvedFrame current = SolveFrame(c, f, poses, tracks, joint);
+      finish();
+      if (f > seg.first && progress) progress->Tick();
+      frames[1] = std::move(frames[0]);
+      frames[0] = std::move(current);
+      const SolvedFrame* previous = f > seg.first ? &frames[1] : nullptr;
+      background.run([&c, &seg, &frames, previous, &animations, &background_parts] {
+        WriteFrameOutputs(c, seg, frames[0], previous, animations, background_parts);
+      });
     }
-    // Scene flow: the segment's meshes from f-1 to f.
-    if (f > seg.first) {
-      std::vector<SceneFlowView> views(c.NumViews());
-      for (int v = 0; v < c.NumViews(); ++v)
-        views[v] = {previous.cameras[v], current.cameras[v], previous.depth[v], current.depth[v],
-                    previous.flow[v],    previous.labels[v], current.labels[v]};
-      for (auto& [id, a] : animations) {
-        const TrackResult r =
-            TrackVertices(a.positions.back(), a.triangles, views, id, c.o.scene_flow);
-        a.positions.push_back(r.positions);
-        a.tracked_fraction.push_back(
-            r.positions.empty() ? 0.0 : double(r.num_tracked) / r.positions.size());
-      }
-    }
-    previous = std::move(current);
+    finish();
     if (progress) progress->Tick();
+  } catch (...) {
+    background.cancel();
+    background.wait();
+    throw;
   }
+  Timer timer;
   const fs::path dir = c.out / layout::SceneSegmentDir(seg.index);
   nlohmann::json objects = nlohmann::json::object();
   for (const auto& [id, a] : animations) {
@@ -432,6 +491,7 @@ void RunSegment(Context& c, const Segment& seg, const std::vector<std::vector<Po
                                              {"first", seg.first},
                                              {"last", seg.last},
                                              {"objects", objects}});
+  c.log.AddSegmentPart("animation", timer.Seconds());
 }
 
 // ---- scene.json ----
@@ -522,6 +582,7 @@ RunResult RunPipeline(const fs::path& capture_dir, const fs::path& scene_dir,
   c.log.masks = ToString(c.masks);
   c.log.poses = ToString(c.poses);
   c.log.stages.clear();
+  c.log.segment_parts.clear();
   if (!options.resume) c.log.stages_done.clear(), c.log.segments_done.clear();
   WriteJsonFileAtomic(scene_dir / layout::SceneParams(), params);
   WriteJsonFileAtomic(scene_dir / layout::SceneCalibration(), CalibrationToJson(cap));

@@ -235,11 +235,21 @@ TEST(PipelineTest, ResumesAndRecoversFromAnInterruption) {
   options.evaluate = false;
   const RunResult first = RunPipeline(capture, scene, options);
   ASSERT_GE(first.segments, 1);
+  // run.json splits the segments stage into its parts, each timed.
+  std::vector<std::string> part_names;
+  for (const PartTime& part : ReadRunLog(scene).segment_parts) {
+    part_names.push_back(part.name);
+    EXPECT_GE(part.seconds, 0.0) << part.name;
+    if (part.name == "solve") EXPECT_GT(part.seconds, 0.0);
+  }
+  EXPECT_EQ(part_names, (std::vector<std::string>{"inputs", "solve", "maps", "fusion", "scene_flow",
+                                                  "animation"}));
 
   // A second run finds everything done and recomputes nothing.
   const RunResult again = RunPipeline(capture, scene, options);
   EXPECT_EQ(again.segments_skipped, again.segments);
   for (const StageReport& s : again.log.stages) EXPECT_NE(s.name, "initial");
+  EXPECT_TRUE(again.log.segment_parts.empty());  // no segment was solved again
 
   // An interruption inside the last segment leaves it unrecorded (run.json
   // is written after a segment's files); the resumed run redoes that one only.

@@ -28,6 +28,15 @@ void RunLog::AddReport(const StageReport& report) {
   stages.push_back(report);
 }
 
+void RunLog::AddSegmentPart(const std::string& name, double seconds) {
+  for (PartTime& part : segment_parts)
+    if (part.name == name) {
+      part.seconds += seconds;
+      return;
+    }
+  segment_parts.push_back({name, seconds});
+}
+
 std::string RunLog::FormatTable() const {
   std::string out =
       fmt::format("{:<12} {:>10} {:>14} {:>7}\n", "stage", "seconds", "peak memory", "items");
@@ -38,6 +47,9 @@ std::string RunLog::FormatTable() const {
                        s.peak_rss_bytes / 1048576.0, s.items);
     total += s.seconds;
     peak = std::max(peak, s.peak_rss_bytes);
+    if (s.name == "segments")
+      for (const PartTime& part : segment_parts)
+        out += fmt::format("  {:<10} {:>10.1f}\n", part.name, part.seconds);
   }
   out += fmt::format("{:<12} {:>10.1f} {:>11.0f} MB\n", "total", total, peak / 1048576.0);
   return out;
@@ -50,13 +62,17 @@ void WriteRunLog(const fs::path& scene_dir, const RunLog& log) {
                       {"seconds", s.seconds},
                       {"peak_rss_mb", s.peak_rss_bytes / 1048576.0},
                       {"items", s.items}});
+  nlohmann::json parts = nlohmann::json::array();
+  for (const PartTime& part : log.segment_parts)
+    parts.push_back({{"name", part.name}, {"seconds", part.seconds}});
   WriteJsonFileAtomic(scene_dir / layout::SceneRunLog(), {{"format", "u4d-run"},
                                                           {"capture", log.capture},
                                                           {"masks", log.masks},
                                                           {"poses", log.poses},
                                                           {"stages_done", log.stages_done},
                                                           {"segments_done", log.segments_done},
-                                                          {"stages", stages}});
+                                                          {"stages", stages},
+                                                          {"segment_parts", parts}});
 }
 
 RunLog ReadRunLog(const fs::path& scene_dir) {
@@ -79,6 +95,11 @@ RunLog ReadRunLog(const fs::path& scene_dir) {
              JsonNumber(JsonGet<nlohmann::json>(s, "peak_rss_mb", ctx), ctx, "peak_rss_mb") *
              1048576.0),
          static_cast<int>(JsonInteger(JsonGet<nlohmann::json>(s, "items", ctx), ctx, "items"))});
+  if (j.contains("segment_parts"))
+    for (const nlohmann::json& part : JsonGet<nlohmann::json>(j, "segment_parts", ctx))
+      log.segment_parts.push_back(
+          {JsonGet<std::string>(part, "name", ctx),
+           JsonNumber(JsonGet<nlohmann::json>(part, "seconds", ctx), ctx, "seconds")});
   return log;
 }
 

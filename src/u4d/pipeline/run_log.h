@@ -3,7 +3,16 @@
 //
 //   {"format": "u4d-run", "capture": "/path", "masks": "given", "poses": "from2d",
 //    "stages_done": ["poses", "initial", ...], "segments_done": [0, 1],
-//    "stages": [{"name": "joint", "seconds": 12.5, "peak_rss_mb": 820, "items": 48}]}
+//    "stages": [{"name": "joint", "seconds": 12.5, "peak_rss_mb": 820, "items": 48}],
+//    "segment_parts": [{"name": "solve", "seconds": 10.1}, ...]}
+//
+// segment_parts splits the "segments" stage's time (summed over its frames)
+// into its parts, in the order they first ran: "inputs" (reading the frames
+// and setting up each view's problem), "solve" (the joint view solves, all
+// views at once), "maps" (writing the per-view label, depth and flow maps),
+// "fusion" (one mesh per object), "scene_flow" (tracking the segment's
+// meshes to the next frame) and "animation" (writing the segment's glTF). It
+// is optional when read (runs written before it have none).
 //
 // A stage or segment is recorded only after every file it writes exists
 // (each file is itself written atomically), so a recorded one is complete.
@@ -24,17 +33,26 @@ struct StageReport {
   int items = 0;               // frames, views or segments processed
 };
 
+// Time spent in one part of a stage.
+struct PartTime {
+  std::string name;
+  double seconds = 0;
+};
+
 struct RunLog {
   std::string capture;
   std::string masks, poses;  // the sources used (run_options.h names)
   std::vector<std::string> stages_done;
   std::set<int> segments_done;
-  std::vector<StageReport> stages;  // this run's stages, in order
+  std::vector<StageReport> stages;      // this run's stages, in order
+  std::vector<PartTime> segment_parts;  // where the "segments" stage's time went
 
   bool StageDone(const std::string& name) const;
   void MarkStage(const std::string& name);  // appends once
   // Adds or accumulates (resumed runs add to an existing entry).
   void AddReport(const StageReport& report);
+  // Adds `seconds` to segment part `name` (appended the first time).
+  void AddSegmentPart(const std::string& name, double seconds);
   // A table: stage, seconds, peak memory, items.
   std::string FormatTable() const;
 };
