@@ -558,8 +558,12 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
   // ---- Label unaries: E_a, E_sem, E_p (2D label part).
   std::vector<LabelledImage> training = in.appearance_training;
   if (training.empty()) training.push_back({in.images_t[v], in.initial_labels});
-  LabelCostVolume appearance =
-      AppearanceCosts(in.images_t[v], training, in.num_labels, in.markers, o.labels);
+  // E_a is read in the region (unaries) and one pixel around it (the 3x3
+  // windows of WindowSpread for E_r's weights): evaluated there only.
+  cv::Mat appearance_where;
+  cv::dilate(roi, appearance_where, cv::Mat::ones(3, 3, CV_8U));
+  LabelCostVolume appearance = AppearanceCosts(in.images_t[v], training, in.num_labels, in.markers,
+                                               o.labels, appearance_where);
   const LabelCostVolume semantic =
       SemanticCosts(o.semantic_temporal ? SemanticLabelMaps(in) : std::vector{in.initial_labels},
                     in.num_labels, o.labels);
@@ -629,7 +633,8 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
       cv::Mat refined(pr.height, pr.width, CV_16U);
       for (int p = 0; p < pr.n; ++p) refined.ptr<uint16_t>()[p] = static_cast<uint16_t>(labels[p]);
       training[frame_t].labels = refined;
-      appearance = AppearanceCosts(in.images_t[v], training, in.num_labels, in.markers, o.labels);
+      appearance = AppearanceCosts(in.images_t[v], training, in.num_labels, in.markers, o.labels,
+                                   appearance_where);
       fill_label_unary(appearance);
     }
     end_phase("appearance refits");

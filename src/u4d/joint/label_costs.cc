@@ -272,10 +272,12 @@ void LabelCostOptions::Check() const {
 LabelCostVolume AppearanceCosts(const cv::Mat& image, const std::vector<LabelledImage>& training,
                                 int num_labels,
                                 const std::vector<std::vector<Eigen::Vector2d>>& markers,
-                                const LabelCostOptions& options) {
+                                const LabelCostOptions& options, const cv::Mat& where) {
   options.Check();
   U4D_CHECK(image.type() == CV_8UC3, "AppearanceCosts: image must be BGR 8-bit");
   U4D_CHECK(num_labels >= 1, "AppearanceCosts: need at least one label");
+  U4D_CHECK(where.empty() || (where.size() == image.size() && where.type() == CV_8UC1),
+            "AppearanceCosts: `where` must be CV_8U {}x{}", image.cols, image.rows);
   // Samples per label from the temporal neighbourhood's masks. Background
   // samples come from a band around the objects: that is the background the
   // objects' pixels compete with.
@@ -322,6 +324,7 @@ LabelCostVolume AppearanceCosts(const cv::Mat& image, const std::vector<Labelled
   const double floor_nll = -std::log(options.min_probability);
   tbb::parallel_for(0, image.rows, [&](int y) {
     for (int x = 0; x < image.cols; ++x) {
+      if (!where.empty() && !where.at<uint8_t>(y, x)) continue;
       const size_t p = static_cast<size_t>(y) * image.cols + x;
       const cv::Vec3b c = image.at<cv::Vec3b>(y, x);
       for (int l = 0; l < num_labels; ++l)

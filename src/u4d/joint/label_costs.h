@@ -76,11 +76,15 @@ struct LabelledImage {
 
 // E_a for labels 0..num_labels-1 on `image`. `markers[l]` are extra
 // foreground pixels of label l in `image` (sparse markers; may be empty).
-// Labels without any sample get cost 1 everywhere. Throws on size mismatch.
+// Labels without any sample get cost 1 everywhere. `where` (CV_8U, the
+// image's size; empty = every pixel) limits the pixels the colour models are
+// evaluated at: elsewhere every label costs 0. The models are learnt from
+// the whole of `training` either way. Throws on size or type mismatch.
 LabelCostVolume AppearanceCosts(const cv::Mat& image, const std::vector<LabelledImage>& training,
                                 int num_labels,
                                 const std::vector<std::vector<Eigen::Vector2d>>& markers,
-                                const LabelCostOptions& options = {});
+                                const LabelCostOptions& options = {},
+                                const cv::Mat& where = cv::Mat());
 
 // E_sem for labels 0..num_labels-1 from the initial label map (CV_16U).
 LabelCostVolume SemanticCosts(const cv::Mat& initial_labels, int num_labels,

@@ -110,5 +110,43 @@ TEST(SemanticCostsTest, CombinedMapsOutvoteOneMapsError) {
                Error);
 }
 
+// E_a on a two-colour image with known labels: the true label is the cheaper
+// one; limited to `where`, the costs there are the same and elsewhere 0.
+TEST(AppearanceCostsTest, FavoursTheTrueLabelAndEvaluatesOnlyWhereAsked) {
+  const int w = 80, h = 60;
+  cv::Mat image(h, w, CV_8UC3), truth(h, w, CV_16U, cv::Scalar(0));
+  std::mt19937 rng(3);
+  std::normal_distribution<double> n(0, 5);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const bool person = x >= 20 && x < 50 && y >= 10 && y < 50;
+      truth.at<uint16_t>(y, x) = person ? 1 : 0;
+      const cv::Vec3d mean = person ? cv::Vec3d(40, 60, 200) : cv::Vec3d(190, 170, 60);
+      for (int k = 0; k < 3; ++k)
+        image.at<cv::Vec3b>(y, x)[k] = cv::saturate_cast<uint8_t>(mean[k] + n(rng));
+    }
+  const std::vector<LabelledImage> training{{image, truth}};
+  const LabelCostVolume all = AppearanceCosts(image, training, 2, {});
+  int right = 0;
+  for (int p = 0; p < w * h; ++p) {
+    const int l = truth.ptr<uint16_t>()[p];
+    right += all.At(p, l) < all.At(p, 1 - l);
+  }
+  EXPECT_GT(right, 0.99 * w * h);
+
+  cv::Mat where = cv::Mat::zeros(h, w, CV_8U);
+  where(cv::Rect(10, 5, 30, 20)).setTo(1);
+  const LabelCostVolume part = AppearanceCosts(image, training, 2, {}, {}, where);
+  for (int p = 0; p < w * h; ++p)
+    for (int l = 0; l < 2; ++l) {
+      if (where.ptr<uint8_t>()[p])
+        ASSERT_EQ(part.At(p, l), all.At(p, l)) << "pixel " << p;
+      else
+        ASSERT_EQ(part.At(p, l), 0.f) << "pixel " << p;
+    }
+  EXPECT_THROW(AppearanceCosts(image, training, 2, {}, {}, cv::Mat::zeros(h, w + 1, CV_8U)), Error);
+  EXPECT_THROW(AppearanceCosts(image, training, 2, {}, {}, cv::Mat::zeros(h, w, CV_32F)), Error);
+}
+
 }  // namespace
 }  // namespace u4d
