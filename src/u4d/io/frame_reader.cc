@@ -12,7 +12,8 @@ struct FrameReader::VideoState {
   int next_index = 0;  // index of the frame the next read() returns
 };
 
-FrameReader::FrameReader(Capture capture) : capture_(std::move(capture)) {}
+FrameReader::FrameReader(Capture capture)
+    : capture_(std::move(capture)), videos_(capture_.NumViews()) {}
 FrameReader::~FrameReader() = default;
 
 cv::Mat FrameReader::Read(int view, int frame) {

@@ -3,8 +3,8 @@
 // order is cheap; seeking backwards reopens the file.
 #pragma once
 
-#include <map>
 #include <memory>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -23,12 +23,14 @@ class FrameReader {
 
   // The BGR image of `view` at `frame`. Throws u4d::Error naming the file on
   // a missing or corrupt frame, or when its size differs from the camera's.
+  // Calls for different views may run concurrently (each view has its own
+  // decoder); calls for the same view may not.
   cv::Mat Read(int view, int frame);
 
  private:
   struct VideoState;
   Capture capture_;
-  std::map<int, std::unique_ptr<VideoState>> videos_;
+  std::vector<std::unique_ptr<VideoState>> videos_;  // per view, opened on first use
 };
 
 }  // namespace u4d

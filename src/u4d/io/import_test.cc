@@ -7,6 +7,7 @@
 #include <random>
 
 #include <gtest/gtest.h>
+#include <tbb/parallel_for.h>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -304,6 +305,19 @@ TEST(ImportQualisys, CalibrationAndEpipolar) {
       CheckEpipolar(cams[0], {reader.Read(0, 0), reader.Read(0, 99)}, cams[1],
                     {reader.Read(1, 0), reader.Read(1, 99)}, "qualisys cam01-cam02");
   EXPECT_GE(r.inliers, 3 * std::max(1, r.inliers_wrong));
+
+  // The views are videos: decoded concurrently (one reader, every view at
+  // once, as the pipeline reads them), the frames are those decoded one view
+  // at a time.
+  ASSERT_EQ(capture.views[0].source.kind, FrameSource::Kind::kVideo);
+  FrameReader serial(capture), parallel(capture);
+  for (const int frame : {3, 4}) {
+    std::vector<cv::Mat> one_by_one(capture.NumViews()), together(capture.NumViews());
+    for (int v = 0; v < capture.NumViews(); ++v) one_by_one[v] = serial.Read(v, frame);
+    tbb::parallel_for(0, capture.NumViews(), [&](int v) { together[v] = parallel.Read(v, frame); });
+    for (int v = 0; v < capture.NumViews(); ++v)
+      EXPECT_EQ(cv::norm(one_by_one[v], together[v], cv::NORM_INF), 0.0) << "view " << v;
+  }
 }
 
 TEST(ImportQualisys, BadInput) {

@@ -4,6 +4,7 @@
 #include <limits>
 #include <map>
 
+#include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
 
 #include "u4d/io/instance_mask.h"
@@ -182,7 +183,7 @@ std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
   };
 
   std::vector<JointViewInput> inputs(nv);
-  for (int v = 0; v < nv; ++v) {
+  tbb::parallel_for(0, nv, [&](int v) {
     JointViewInput& in = inputs[v];
     in.ref_view = v;
     in.cameras_t = cams_t;
@@ -223,7 +224,7 @@ std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
         obj.depth_far = range.second;
         in.objects.push_back(obj);
       }
-      continue;
+      return;
     }
     // Regions: instances plus capsules; depth ranges from the joints.
     const PosePriorMap capsules =
@@ -243,7 +244,7 @@ std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
       obj.depth_far = zmax + options.depth_margin_m;
       in.objects.push_back(obj);
     }
-  }
+  });
   return inputs;
 }
 

@@ -5,6 +5,7 @@
 #include <set>
 #include <tuple>
 
+#include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
 
 #include "u4d/io/image_io.h"
@@ -172,9 +173,10 @@ FrameObjects ObjectsFromPoses(const std::vector<Camera>& cameras, const std::vec
   FrameObjects out;
   out.ids.resize(masks.size());
   out.depth_ranges.resize(masks.size());
-  for (size_t v = 0; v < masks.size(); ++v)
+  tbb::parallel_for(size_t{0}, masks.size(), [&](size_t v) {
     if (!masks[v].empty())
       out.ids[v] = AssignInstancesToPeople(cameras[v], masks[v], poses, options);
+  });
   return out;
 }
 

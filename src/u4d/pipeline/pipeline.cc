@@ -57,6 +57,13 @@ struct Context {
   }
 };
 
+// Frame f of every view, read in parallel.
+std::vector<cv::Mat> ReadViews(Context& c, int f) {
+  std::vector<cv::Mat> images(c.NumViews());
+  tbb::parallel_for(0, c.NumViews(), [&](int v) { images[v] = c.reader.Read(v, f); });
+  return images;
+}
+
 // An input named explicitly must exist: without it the run would go on with
 // no masks or no people and write an empty scene.
 MaskSource ResolveMasks(const Capture& cap, MaskSource s) {
@@ -168,8 +175,7 @@ int ComputeInitialObjects(Context& c, const std::vector<std::vector<Pose3d>>& po
   for (int k = 0; k < c.NumFrames(); ++k) {
     const int f = c.f0 + k;
     const std::vector<Camera> cams = c.Cameras(f);
-    std::vector<cv::Mat> images(c.NumViews());
-    for (int v = 0; v < c.NumViews(); ++v) images[v] = c.reader.Read(v, f);
+    const std::vector<cv::Mat> images = ReadViews(c, f);
     const std::vector<cv::Mat> masks =
         c.masks == MaskSource::kGiven
             ? ReadGivenMasks(c, f)
@@ -196,12 +202,13 @@ int ComputeInitialObjects(Context& c, const std::vector<std::vector<Pose3d>>& po
 
 // ---- temporal tracks ----
 
+// The views run in parallel (each reads only its own frames).
 std::vector<TemporalTrack> ComputeTracks(Context& c,
                                          const std::vector<std::vector<Pose3d>>& poses) {
-  std::vector<TemporalTrack> all;
   Progress progress("tracks", int64_t(c.NumFrames()) * c.NumViews(), c.o.progress);
-  for (int v = 0; v < c.NumViews(); ++v) {
-    std::vector<TemporalTrack> view_tracks;
+  std::vector<std::vector<TemporalTrack>> per_view(c.NumViews());
+  tbb::parallel_for(0, c.NumViews(), [&](int v) {
+    std::vector<TemporalTrack>& view_tracks = per_view[v];
     for (int first = c.f0; first < c.f1; first += c.o.track_chunk_frames) {
       const int last = std::min(c.f1, first + c.o.track_chunk_frames);
       std::vector<FrameFeatures> features;
@@ -221,8 +228,10 @@ std::vector<TemporalTrack> ComputeTracks(Context& c,
           view_tracks.push_back(std::move(t));
     }
     WriteTemporalTracks(c.out / layout::SceneTracks(c.names[v]), c.names[v], v, view_tracks);
+  });
+  std::vector<TemporalTrack> all;
+  for (std::vector<TemporalTrack>& view_tracks : per_view)
     for (TemporalTrack& t : view_tracks) all.push_back(std::move(t));
-  }
   return all;
 }
 
@@ -307,18 +316,19 @@ SolvedFrame SolveFrame(Context& c, int f, const std::vector<std::vector<Pose3d>>
   auto in_run = [&](int g) { return g >= c.f0 && g < c.f1; };
   Timer timer;
   JointFrameData data;
-  data.cameras_t = c.Cameras(f);
-  for (int v = 0; v < nv; ++v) data.images_t.push_back(c.reader.Read(v, f));
-  const FrameObjects objects = ReadFrameObjects(c.out, c.names, f);
-  data.masks_t = objects.ids;
+  // Frames f - 1, f, f + 1 in that order (a video is decoded forwards).
   if (f > 0) {
-    for (int v = 0; v < nv; ++v) data.images_prev.push_back(c.reader.Read(v, f - 1));
+    data.images_prev = ReadViews(c, f - 1);
     data.masks_prev =
         in_run(f - 1) ? ReadFrameObjects(c.out, c.names, f - 1).ids : std::vector<cv::Mat>(nv);
   }
+  data.cameras_t = c.Cameras(f);
+  data.images_t = ReadViews(c, f);
+  const FrameObjects objects = ReadFrameObjects(c.out, c.names, f);
+  data.masks_t = objects.ids;
   if (f + 1 < c.cap.num_frames) {
     data.cameras_t1 = c.Cameras(f + 1);
-    for (int v = 0; v < nv; ++v) data.images_t1.push_back(c.reader.Read(v, f + 1));
+    data.images_t1 = ReadViews(c, f + 1);
     data.masks_t1 =
         in_run(f + 1) ? ReadFrameObjects(c.out, c.names, f + 1).ids : std::vector<cv::Mat>(nv);
     if (in_run(f + 1)) data.poses_t1 = poses[f + 1 - c.f0];
