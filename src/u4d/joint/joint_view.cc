@@ -506,6 +506,8 @@ void JointViewOptions::Check() const {
   U4D_CHECK(depth_truncation > 0, "JointViewOptions.depth_truncation must be > 0");
   U4D_CHECK(depth_coarse_step >= 0, "JointViewOptions.depth_coarse_step must be >= 0, got {}",
             depth_coarse_step);
+  U4D_CHECK(depth_refine_band >= 0, "JointViewOptions.depth_refine_band must be >= 0, got {}",
+            depth_refine_band);
   U4D_CHECK(motion_truncation_px > 0, "JointViewOptions.motion_truncation_px must be > 0");
   U4D_CHECK(roi_margin_px >= 0, "JointViewOptions.roi_margin_px must be >= 0");
   U4D_CHECK(appearance_refits >= 0, "JointViewOptions.appearance_refits must be >= 0, got {}",
@@ -779,6 +781,7 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
     block_start = std::clock();
     pr.FillPairCache(Problem::CachedPart::kMotion);
     DepthBlock depth_block(pr);
+    if (round > 0 && o.depth_refine_band > 0) depth_block.band = o.depth_refine_band;
     if (!depth_coarse.empty()) {
       mrf::AlphaExpansion(pr.grid, depth_block, depth_coarse, &pr.d, eo);
       depth_block.band = o.depth_coarse_step;

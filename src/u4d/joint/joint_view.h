@@ -122,6 +122,13 @@ struct JointViewOptions {
   // allowed to move by at most depth_coarse_step labels (mrf::GridEnergy::MayTake);
   // 0 or 1: one pass over all depths, every pixel a candidate for each.
   int depth_coarse_step = 0;
+  // From the second round on, the depth block lets a pixel with a depth move
+  // by at most this many labels (or to U; a pixel at U may take any depth):
+  // the first round has placed every pixel, the later ones refine. 0 = no
+  // limit. With 4, the second round's depth block took a quarter of its time
+  // on both joint_bench presets (a view 13-19 % less), for an energy 0.2 %
+  // higher and the same IoU, depth within 1 % and EPE (docs/joint.md, "Speed").
+  int depth_refine_band = 4;
   double motion_truncation_px = 4;  // τ_m, pixels (working resolution)
   // E_r's distance: min(|Δm|², τ_m²) / τ_m² (the paper's squared difference; true) or
   // min(|Δm|, τ_m) / τ_m (a metric, every expansion move submodular; false).

@@ -312,6 +312,9 @@ TEST(JointViewTest, RejectsInconsistentInput) {
   options = JointViewOptions();
   options.depth_coarse_step = -1;
   test_util::ExpectErrorMentions([&] { options.Check(); }, {"depth_coarse_step"});
+  options = JointViewOptions();
+  options.depth_refine_band = -1;
+  test_util::ExpectErrorMentions([&] { options.Check(); }, {"depth_refine_band"});
 }
 
 TEST(JointParametersTest, AblationsSwitchTheirTerms) {

@@ -93,6 +93,7 @@ nlohmann::json RunOptions::ToJson() const {
         {"sweeps_per_block", joint.sweeps_per_block},
         {"motion_rounds", joint.motion_rounds},
         {"depth_coarse_step", joint.depth_coarse_step},
+        {"depth_refine_band", joint.depth_refine_band},
         {"depth_truncation", joint.depth_truncation},
         {"motion_truncation_px", joint.motion_truncation_px},
         {"roi_margin_px", joint.roi_margin_px},
