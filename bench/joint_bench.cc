@@ -17,7 +17,7 @@
 //       [--per-view] [--dump DIR] [--pose-3d-own-label] [--semantic-temporal]
 //       [--occluder-limb-radius M] [--appearance-refits N] [--appearance-inset PX]
 //       [--no-carry-depth] [--depth-coarse-step N] [--sweeps N]
-//       [--depth-refine-band N]
+//       [--depth-refine-band N] [--fusion-rounds N]
 // --per-view: one line per method and view-frame (IoU, depth within 5 %, flow
 // EPE), for paired comparisons of the ablations. --dump DIR: per view-frame
 // f<frame>_v<view>_<name>: the initial, GT and each method's labels (16-bit
@@ -93,6 +93,7 @@ struct Args {
   bool carry_depth = true;         // JointViewOptions::label_moves_carry_depth
   int depth_coarse_step = -1;      // JointViewOptions::depth_coarse_step (-1 = default)
   int depth_refine_band = -1;      // JointViewOptions::depth_refine_band (-1 = default)
+  int fusion_rounds = -1;          // FlowFusionOptions::rounds (-1 = default)
   int sweeps = -1;                 // JointViewOptions::sweeps_per_block (-1 = default)
   std::string dump;  // folder: per view-frame labels, depth, truth and pose map (diagnosis)
 };
@@ -163,6 +164,8 @@ Args ParseArgs(int argc, char** argv) {
       a.sweeps = std::stoi(next());
     else if (k == "--depth-refine-band")
       a.depth_refine_band = std::stoi(next());
+    else if (k == "--fusion-rounds")
+      a.fusion_rounds = std::stoi(next());
     else
       throw Error(fmt::format(
           "joint_bench: unknown argument '{}' (expected --views, --width, --height, --frames, "
@@ -288,6 +291,7 @@ int main(int argc, char** argv) try {
     options.label_moves_carry_depth = args.carry_depth;
     if (args.depth_coarse_step >= 0) options.depth_coarse_step = args.depth_coarse_step;
     if (args.depth_refine_band >= 0) options.depth_refine_band = args.depth_refine_band;
+    if (args.fusion_rounds >= 0) options.fusion.rounds = args.fusion_rounds;
     if (args.sweeps >= 0) options.sweeps_per_block = args.sweeps;
     if (args.occluder_limb >= 0) options.pose.occluder_limb_radius_m = args.occluder_limb;
     if (args.reg_boundary == "free")
