@@ -936,10 +936,12 @@ width up to 480 px (docs/pipeline.md): up to that the time grows with the
 pixels solved; beyond it, only reading, resampling and writing the
 full-size maps grow. Each view is one joint solve (the views of a frame in
 parallel on the 2 cores). Wall seconds per frame by stage, and the peak
-resident memory:
+resident memory; of the segments stage, the view solves and the per-object
+Poisson fusion (run.json's segment_parts; the fusion of a frame runs in the
+background while the next frame is solved, so the two overlap):
 
-| views | image | poses | initial | tracks | segments | consistency | total s per frame | peak memory MB |
-|---|---|---|---|---|---|---|---|---|
+| views | image | poses | initial | tracks | segments | of which: solve | fusion (background) | consistency | total s per frame | peak memory MB |
+|---|---|---|---|---|---|---|---|---|---|---|
 EOF
     for id in "${SCALE_IDS[@]}"; do
       cfg=${id#scale_}
@@ -947,10 +949,11 @@ EOF
         jq -r --arg v "${cfg%%v_*}" --arg s "${cfg#*v_}" '
           ([.stages[] | select(.name == "segments") | .items] | add) as $n |
           def st(x): ([.stages[] | select(.name == x) | .seconds] | add // 0) / $n * 100 | round / 100;
-          "| \($v) | \($s) | \(st("poses")) | \(st("initial")) | \(st("tracks")) | \(st("segments")) | \(st("consistency")) | \([.stages[].seconds] | add / $n * 100 | round / 100) | \([.stages[].peak_rss_mb] | max | round) |"' \
+          def sp(x): if has("segment_parts") then ([.segment_parts[] | select(.name == x) | .seconds] | add // 0) / $n * 100 | round / 100 else "–" end;
+          "| \($v) | \($s) | \(st("poses")) | \(st("initial")) | \(st("tracks")) | \(st("segments")) | \(sp("solve")) | \(sp("fusion")) | \(st("consistency")) | \([.stages[].seconds] | add / $n * 100 | round / 100) | \([.stages[].peak_rss_mb] | max | round) |"' \
           "$WORK/$id.run.json"
       else
-        echo "| ${cfg%%v_*} | ${cfg#*v_} | (no run.json: the run failed) | | | | | | |"
+        echo "| ${cfg%%v_*} | ${cfg#*v_} | (no run.json: the run failed) | | | | | | | | |"
       fi
     done
     echo

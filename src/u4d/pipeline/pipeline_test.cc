@@ -267,6 +267,29 @@ TEST(PipelineTest, ResumesAndRecoversFromAnInterruption) {
   EXPECT_EQ(ReadRunLog(scene).segments_done.size(), static_cast<size_t>(resumed.segments));
 }
 
+// A frame's outputs are written in the background while the next frame is
+// solved: an error there (here `meshes` is a file, so no mesh can be
+// written) still fails the run, naming the path, and the segment is not
+// recorded as done.
+TEST(PipelineTest, AnErrorWritingOutputsInTheBackgroundFailsTheRun) {
+  const fs::path capture = SmallCapture();
+  const fs::path scene = test_util::FreshTestDir("pipeline", "background_error");
+  fs::create_directories(scene);
+  WriteTextFileAtomic(scene / "meshes", "not a folder\n");
+  RunOptions options = FastOptions();
+  options.frame_setup.working_width = 96;
+  options.evaluate = false;
+  try {
+    RunPipeline(capture, scene, options);
+    FAIL() << "writing a mesh under a file must throw";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("meshes"), std::string::npos) << e.what();
+  }
+  const RunLog log = ReadRunLog(scene);
+  EXPECT_TRUE(log.StageDone("tracks"));
+  EXPECT_TRUE(log.segments_done.empty());
+}
+
 TEST(PipelineTest, CorruptFrameAndMismatchedOptionsFailClearly) {
   const fs::path capture = SmallCapture();
   const fs::path scene = test_util::FreshTestDir("pipeline", "corrupt");
