@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <array>
+#include <functional>
 #include <map>
 #include <set>
+#include <utility>
 
 #include <fmt/format.h>
 #include <open3d/geometry/TriangleMesh.h>
@@ -449,43 +451,10 @@ void WriteFrameOutputs(const Context& c, const Segment& seg, const SolvedFrame& 
   parts.AddSegmentPart("scene_flow", timer.Seconds());
 }
 
-// Solves the segment's frames one after the other; each frame's outputs are
-// written by a background task while the next frame is solved (the two
-// share the cores: the view solves are parallel, fusion mostly is not).
-void RunSegment(Context& c, const Segment& seg, const std::vector<std::vector<Pose3d>>& poses,
-                const std::vector<TemporalTrack>& tracks, const JointViewOptions& joint,
-                Progress* progress) {
-  std::map<int, AnimatedMesh> animations;  // object id -> its mesh moving through the segment
-  // frames[0]: the frame whose outputs are being written, frames[1]: the one before it.
-  std::array<SolvedFrame, 2> frames;
-  RunLog background_parts;  // the background task's part times
-  tbb::task_group background;
-  // Waits for the background task (rethrowing its error) and takes its times.
-  auto finish = [&] {
-    background.wait();
-    for (const PartTime& part : background_parts.segment_parts)
-      c.log.AddSegmentPart(part.name, part.seconds);
-    background_parts.segment_parts.clear();
-  };
-  try {
-    for (int f = seg.first; f <= seg.last; ++f) {
-      SolvedFrame current = SolveFrame(c, f, poses, tracks, joint);
-      finish();
-      if (f > seg.first && progress) progress->Tick();
-      frames[1] = std::move(frames[0]);
-      frames[0] = std::move(current);
-      const SolvedFrame* previous = f > seg.first ? &frames[1] : nullptr;
-      background.run([&c, &seg, &frames, previous, &animations, &background_parts] {
-        WriteFrameOutputs(c, seg, frames[0], previous, animations, background_parts);
-      });
-    }
-    finish();
-    if (progress) progress->Tick();
-  } catch (...) {
-    background.cancel();
-    background.wait();
-    throw;
-  }
+// A segment's animated meshes (one glTF per object) and its segment.json,
+// after its last frame's outputs.
+void WriteSegmentAnimation(const Context& c, const Segment& seg,
+                           const std::map<int, AnimatedMesh>& animations, RunLog& parts) {
   Timer timer;
   const fs::path dir = c.out / layout::SceneSegmentDir(seg.index);
   nlohmann::json objects = nlohmann::json::object();
@@ -501,7 +470,66 @@ void RunSegment(Context& c, const Segment& seg, const std::vector<std::vector<Po
                                              {"first", seg.first},
                                              {"last", seg.last},
                                              {"objects", objects}});
-  c.log.AddSegmentPart("animation", timer.Seconds());
+  parts.AddSegmentPart("animation", timer.Seconds());
+}
+
+// Solves the frames of `todo`'s segments one after the other. Each frame's
+// outputs (and, after a segment's last frame, its animation) are written by
+// a background task while the next frame is solved, across segment borders
+// too (the two share the cores: the view solves are parallel, fusion mostly
+// is not). `segment_done(seg)` runs on the calling thread once all of a
+// segment's files are written; an error (in a solve or in the background)
+// is rethrown after the background task has finished, so a segment whose
+// files were all written is still reported done.
+void RunSegments(Context& c, const std::vector<Segment>& todo,
+                 const std::vector<std::vector<Pose3d>>& poses,
+                 const std::vector<TemporalTrack>& tracks, const JointViewOptions& joint,
+                 Progress* progress, const std::function<void(const Segment&)>& segment_done) {
+  std::map<int, AnimatedMesh> animations;  // object id -> its mesh moving through the segment
+  // frames[0]: the frame whose outputs are being written, frames[1]: the one before it.
+  std::array<SolvedFrame, 2> frames;
+  RunLog background_parts;  // the background task's part times
+  tbb::task_group background;
+  bool frame_pending = false;              // a frame's outputs are in the background
+  const Segment* last_frame_of = nullptr;  // ... and it is this segment's last
+  // Waits for the background task (rethrowing its error: then nothing it
+  // worked on is reported), takes its times and reports what it finished.
+  auto finish = [&] {
+    const bool pending = std::exchange(frame_pending, false);
+    const Segment* done = std::exchange(last_frame_of, nullptr);
+    background.wait();
+    for (const PartTime& part : background_parts.segment_parts)
+      c.log.AddSegmentPart(part.name, part.seconds);
+    background_parts.segment_parts.clear();
+    if (pending && progress) progress->Tick();
+    if (done) segment_done(*done);
+  };
+  try {
+    for (const Segment& seg : todo)
+      for (int f = seg.first; f <= seg.last; ++f) {
+        SolvedFrame current = SolveFrame(c, f, poses, tracks, joint);
+        finish();
+        if (f == seg.first) animations.clear();
+        frames[1] = std::move(frames[0]);
+        frames[0] = std::move(current);
+        const SolvedFrame* previous = f > seg.first ? &frames[1] : nullptr;
+        const bool last = f == seg.last;
+        frame_pending = true;
+        if (last) last_frame_of = &seg;
+        background.run([&c, &seg, &frames, previous, last, &animations, &background_parts] {
+          WriteFrameOutputs(c, seg, frames[0], previous, animations, background_parts);
+          if (last) WriteSegmentAnimation(c, seg, animations, background_parts);
+        });
+      }
+    finish();
+  } catch (...) {
+    // The first error wins; the background's own, if any, is dropped.
+    try {
+      finish();
+    } catch (...) {
+    }
+    throw;
+  }
 }
 
 // ---- scene.json ----
@@ -638,18 +666,21 @@ RunResult RunPipeline(const fs::path& capture_dir, const fs::path& scene_dir,
     if (!c.log.segments_done.count(s.index)) frames_to_solve += s.last - s.first + 1;
   RunStage(c, "segments", false, [&] {
     Progress progress("segments (frames)", frames_to_solve, options.progress);
-    int solved = 0;
+    std::vector<Segment> todo;
     for (const Segment& s : segments) {
       if (c.log.segments_done.count(s.index)) {
         ++result.segments_skipped;
         continue;
       }
-      RunSegment(c, s, poses, tracks, joint, &progress);
+      todo.push_back(s);
+    }
+    int solved = 0;
+    RunSegments(c, todo, poses, tracks, joint, &progress, [&](const Segment& s) {
       c.log.segments_done.insert(s.index);
       WriteRunLog(c.out, c.log);
       WriteIndex(c, selection, segments, false);
       solved += s.last - s.first + 1;
-    }
+    });
     return solved;
   });
 
