@@ -149,6 +149,15 @@ else
 fi
 if [[ $KEEP == 0 ]]; then trap 'rm -rf "$WORK"' EXIT; else log "work folder: $WORK"; fi
 SCRIPT_T0=$(date +%s)
+# The commit the benches ran at: recorded in the work folder by the first run,
+# so that a --reuse assembly at a later commit still names it.
+COMMIT_NOW="$(git rev-parse --short HEAD 2>/dev/null)$(git diff --quiet HEAD 2>/dev/null || echo " with uncommitted changes")"
+if [[ -s $WORK/commit ]]; then
+  RUN_COMMIT=$(cat "$WORK/commit")
+else
+  RUN_COMMIT=$COMMIT_NOW
+  echo "$RUN_COMMIT" > "$WORK/commit"
+fi
 
 # ---- build -------------------------------------------------------------------
 BENCHES=(sparse_bench tracks_bench shelf_pose_bench keyframes_bench depth_cost_bench
@@ -446,7 +455,7 @@ EOF
   cat <<EOF
 Machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //'),
 $(awk '/MemTotal/ { printf "%.0f GiB", $2 / 1048576 }' /proc/meminfo) memory; build \`$BUILD\` (${BUILD_TYPE:-unknown build type});
-commit $(git rev-parse --short HEAD 2>/dev/null)$(git diff --quiet HEAD 2>/dev/null || echo " with uncommitted changes");
+commit $RUN_COMMIT$([[ $RUN_COMMIT != "$COMMIT_NOW" ]] && echo " (the benches; assembled at $COMMIT_NOW)");
 started $(date -u -d "@$SCRIPT_T0" '+%Y-%m-%d %H:%M:%S UTC'), whole script ${SCRIPT_WALL} s$([[ -n $REUSE ]] && echo " (with --reuse: the steps already in the work folder were not rerun; each section's \"Run:\" line says when it ran)").
 The machine may be shared: the load average at the start of each bench is
 given with it; compare times only within one bench (ratios), not across
