@@ -781,10 +781,14 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
     block_start = std::clock();
     pr.FillPairCache(Problem::CachedPart::kMotion);
     DepthBlock depth_block(pr);
-    if (round > 0 && o.depth_refine_band > 0) depth_block.band = o.depth_refine_band;
+    // The band of the later rounds (depth_refine_band) holds for every depth
+    // pass of those rounds; a coarse-to-fine fine pass keeps the narrower one.
+    const int refine_band = round > 0 && o.depth_refine_band > 0 ? o.depth_refine_band : -1;
+    depth_block.band = refine_band;
     if (!depth_coarse.empty()) {
       mrf::AlphaExpansion(pr.grid, depth_block, depth_coarse, &pr.d, eo);
-      depth_block.band = o.depth_coarse_step;
+      depth_block.band =
+          refine_band < 0 ? o.depth_coarse_step : std::min(refine_band, o.depth_coarse_step);
     }
     mrf::AlphaExpansion(pr.grid, depth_block, depth_candidates, &pr.d, eo);
     result.energy_trace.push_back({"depth", pr.Energy(), block_timer.Seconds()});
