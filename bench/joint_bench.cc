@@ -524,6 +524,10 @@ int main(int argc, char** argv) try {
   for (const std::string& m : order) {
     const Stats& s = get(m);
     if (!s.has_depth) continue;
+    if (!(s.depth.Completeness() > 0)) {  // e.g. SGBM on a rig without a close enough pair
+      std::printf("| %s | – | – | – | 0.000 (no estimate) |\n", m.c_str());
+      continue;
+    }
     std::printf("| %s | %.3f | %.3f | %.4f | %.3f |\n", m.c_str(), s.depth.Delta1Pct(),
                 s.depth.Delta5Pct(), s.depth.AbsRel(), s.depth.Completeness());
   }
@@ -560,6 +564,10 @@ int main(int argc, char** argv) try {
     const Stats& s = get(m);
     if (s.runs == 0 || m == "initial" || m == "zero") continue;
     const double per = s.seconds / s.runs;
+    if (s.has_depth && !(s.depth.Completeness() > 0) && !s.has_flow) {
+      std::printf("| %s | – (no estimate) | – |\n", m.c_str());
+      continue;
+    }
     std::printf("| %s | %.3f | %.1f |\n", m.c_str(), per, full_s / per);
   }
   std::printf("\nEnergy trace of the full method (mean over views; E / E_init)\n");
