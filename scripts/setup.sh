@@ -9,6 +9,7 @@ packages=(
   nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev libboost-graph-dev
   libcpp-httplib-dev chromium
+  python3-matplotlib  # scripts/results.sh's scaling plot
 )
 # The web viewer (viewer/) needs node and npm; any recent node (>= 18) will
 # do, so Debian's packages are installed only when no npm is on the PATH.
