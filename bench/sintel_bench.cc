@@ -9,9 +9,11 @@
 //   ours-fusion                the joint method's flow fusion stage
 //                              (joint_view.h FlowFusionOptions) on a single
 //                              view: fusion moves (mrf::FusionMove) of the
-//                              current field with the proposals DeepFlow, DIS,
-//                              their mean and the current field smoothed (σ = 1
-//                              px, 5x5), 2 rounds, under λ_f E_f + E_r with the
+//                              current field with the default proposals
+//                              (joint_view.h FlowFusionProposals: DIS at its
+//                              finest scale, DIS medium, their mean) and the
+//                              current field smoothed (σ = 1 px, 5x5), 2
+//                              rounds, under λ_f E_f + E_r with the
 //                              paper's weights (PaperWeights indoor, 1 view),
 //                              the default FlowCostOptions / τ_m and the
 //                              edge-aware weight c_pq of E_r, starting from the
@@ -33,7 +35,8 @@
 //
 // EPE (px) over the GT-valid pixels ("all") and the valid non-occluded ones
 // ("noc"), share within 1 / 3 px (all), wall time, and the time relative to
-// DeepFlow in the same run (ours includes its DeepFlow and DIS proposals).
+// DeepFlow in the same run (ours includes computing its proposals; -df also
+// DeepFlow's start).
 //   build/bench/sintel_bench [case ...]      (case = clean/easy etc.)
 #include <cmath>
 #include <cstdio>
@@ -180,10 +183,10 @@ int main(int argc, char** argv) try {
                                             "ours-fusion-df"};
   std::printf("MPI Sintel (%s), forward flow frame_0002 -> frame_0003\n", root.string().c_str());
   std::printf(
-      "ours-fusion: the joint method's flow fusion on ONE view (E_f^T + E_r, proposals\n"
-      "DeepFlow, DIS, mean, smoothed; no e_F^V / e_F^S / labels / depth / pose: Sintel\n"
-      "is monocular), from the zero field; ours-fusion-df: the same, started at DeepFlow;\n"
-      "their times include their DeepFlow and DIS proposals.\n\n");
+      "ours-fusion: the joint method's flow fusion on ONE view (E_f^T + E_r, the default\n"
+      "proposals DIS fine, DIS medium, mean, smoothed; no e_F^V / e_F^S / labels / depth /\n"
+      "pose: Sintel is monocular), from the zero field; ours-fusion-df: the same, started\n"
+      "at DeepFlow; their times include their proposals (and -df's DeepFlow).\n\n");
   std::printf(
       "| case | method | EPE all | EPE noc | within 1 px | within 3 px | s | s / deepflow |\n");
   std::printf("|---|---|---|---|---|---|---|---|\n");
@@ -212,15 +215,16 @@ int main(int argc, char** argv) try {
       flow[m] = eval::BaselineFlow(eval::FlowBaselineFromString(methods[m]), a, b);
       secs[m] = timer.Seconds();
     }
-    {
+    const JointViewOptions jo;
+    cv::Mat grey_a, grey_b;
+    cv::cvtColor(a, grey_a, cv::COLOR_BGR2GRAY);
+    cv::cvtColor(b, grey_b, cv::COLOR_BGR2GRAY);
+    for (int m = 3; m < 5; ++m) {
       Timer timer;
-      flow[3] = OursFusion(a, b, {flow[0], flow[1], 0.5 * (flow[0] + flow[1])}, cv::Mat());
-      secs[3] = timer.Seconds() + secs[0] + secs[1];
-    }
-    {
-      Timer timer;
-      flow[4] = OursFusion(a, b, {flow[1], 0.5 * (flow[0] + flow[1]), flow[0]}, flow[0]);
-      secs[4] = timer.Seconds() + secs[0] + secs[1];
+      const std::vector<cv::Mat> proposals = FlowFusionProposals(grey_a, grey_b, jo.fusion);
+      const bool from_deepflow = methods[m] == "ours-fusion-df";
+      flow[m] = OursFusion(a, b, proposals, from_deepflow ? flow[0] : cv::Mat());
+      secs[m] = timer.Seconds() + (from_deepflow ? secs[0] : 0.0);
     }
     for (size_t m = 0; m < methods.size(); ++m) {
       const eval::FlowMetrics all = eval::EvaluateFlow(flow[m], gt, valid, cv::Mat(), c);

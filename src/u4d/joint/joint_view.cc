@@ -519,6 +519,37 @@ void FlowFusionOptions::Check() const {
   U4D_CHECK(rounds >= 1, "FlowFusionOptions.rounds must be >= 1, got {}", rounds);
 }
 
+std::vector<cv::Mat> FlowFusionProposals(const cv::Mat& grey_t, const cv::Mat& grey_t1,
+                                         const FlowFusionOptions& options) {
+  U4D_CHECK(grey_t.type() == CV_8UC1 && grey_t1.type() == CV_8UC1 &&
+                grey_t.size() == grey_t1.size() && !grey_t.empty(),
+            "FlowFusionProposals: need two 8-bit grey images of one size (got {}x{} type {} and "
+            "{}x{} type {})",
+            grey_t.cols, grey_t.rows, grey_t.type(), grey_t1.cols, grey_t1.rows, grey_t1.type());
+  std::vector<cv::Mat> proposals;
+  if (options.deepflow) {
+    cv::Mat f;
+    cv::optflow::createOptFlow_DeepFlow()->calc(grey_t, grey_t1, f);
+    proposals.push_back(f);
+  }
+  if (options.dis_fine) {
+    cv::Mat f;
+    const cv::Ptr<cv::DISOpticalFlow> dis =
+        cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM);
+    dis->setFinestScale(0);
+    dis->setVariationalRefinementIterations(10);
+    dis->calc(grey_t, grey_t1, f);
+    proposals.push_back(f);
+  }
+  if (options.dis) {
+    cv::Mat f;
+    cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM)->calc(grey_t, grey_t1, f);
+    proposals.push_back(f);
+  }
+  if (proposals.size() == 2) proposals.push_back(0.5 * (proposals[0] + proposals[1]));
+  return proposals;
+}
+
 JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions& o) {
   o.Check();
   CheckInput(in);
@@ -817,30 +848,9 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
     Timer block_timer;
     pr.FillPairCache(Problem::CachedPart::kLabelDepth);  // FusionBlock
     const MotionLabelGrid index(pr.motion.motions);
-    std::vector<cv::Mat> external;  // proposals that do not depend on the state
-    {
-      const cv::Mat a = Grey(in.images_t[v]), b = Grey(in.images_t1[v]);
-      if (o.fusion.deepflow) {
-        cv::Mat f;
-        cv::optflow::createOptFlow_DeepFlow()->calc(a, b, f);
-        external.push_back(f);
-      }
-      if (o.fusion.dis_fine) {
-        cv::Mat f;
-        const cv::Ptr<cv::DISOpticalFlow> dis =
-            cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM);
-        dis->setFinestScale(0);
-        dis->setVariationalRefinementIterations(10);
-        dis->calc(a, b, f);
-        external.push_back(f);
-      }
-      if (o.fusion.dis) {
-        cv::Mat f;
-        cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM)->calc(a, b, f);
-        external.push_back(f);
-      }
-      if (external.size() == 2) external.push_back(0.5 * (external[0] + external[1]));
-    }
+    // Proposals that do not depend on the state.
+    const std::vector<cv::Mat> external =
+        FlowFusionProposals(Grey(in.images_t[v]), Grey(in.images_t1[v]), o.fusion);
     end_phase("fusion proposals");
     auto current_field = [&] {
       cv::Mat f(pr.height, pr.width, CV_32FC2);

@@ -218,6 +218,13 @@ struct JointViewResult {
   std::vector<Phase> phases;
 };
 
+// The flow fusion's proposals that do not depend on the state, for grey
+// (CV_8U) frames t and t+1 of one size: DeepFlow, DIS fine, DIS medium (the
+// ones `options` enables, in that order), then, with exactly two of them, their
+// mean. Throws u4d::Error on images that are not 8-bit grey of one size.
+std::vector<cv::Mat> FlowFusionProposals(const cv::Mat& grey_t, const cv::Mat& grey_t1,
+                                         const FlowFusionOptions& options);
+
 // Throws u4d::Error on inconsistent input (sizes, counts, label ids).
 JointViewResult SolveJointView(const JointViewInput& input, const JointViewOptions& options);
 

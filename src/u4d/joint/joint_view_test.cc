@@ -317,6 +317,35 @@ TEST(JointViewTest, RejectsInconsistentInput) {
   test_util::ExpectErrorMentions([&] { options.Check(); }, {"depth_refine_band"});
 }
 
+// A textured image shifted by a known (3, -2) px: every default proposal
+// (DIS fine, DIS medium, their mean) recovers the shift inside the image, and
+// the enabled ones come in the documented order and number.
+TEST(FlowFusionProposalsTest, RecoverAKnownShiftInTheDocumentedOrder) {
+  cv::Mat a(96, 128, CV_8U);
+  cv::randu(a, 0, 255);
+  cv::GaussianBlur(a, a, cv::Size(5, 5), 1.5);
+  cv::Mat b;
+  const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, 3, 0, 1, -2);
+  cv::warpAffine(a, b, shift, a.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
+  const FlowFusionOptions defaults;
+  const std::vector<cv::Mat> proposals = FlowFusionProposals(a, b, defaults);
+  ASSERT_EQ(proposals.size(), 3u);  // DIS fine, DIS medium, mean
+  const cv::Rect inner(16, 16, 96, 64);
+  for (const cv::Mat& f : proposals) {
+    ASSERT_EQ(f.type(), CV_32FC2);
+    const cv::Scalar mean = cv::mean(f(inner));
+    EXPECT_NEAR(mean[0], 3.0, 0.1);
+    EXPECT_NEAR(mean[1], -2.0, 0.1);
+  }
+  FlowFusionOptions one = defaults;
+  one.dis_fine = false;
+  EXPECT_EQ(FlowFusionProposals(a, b, one).size(), 1u);  // one proposal: no mean
+  EXPECT_THROW(FlowFusionProposals(a, b(cv::Rect(0, 0, 64, 64)).clone(), defaults), Error);
+  cv::Mat colour;
+  cv::cvtColor(a, colour, cv::COLOR_GRAY2BGR);
+  EXPECT_THROW(FlowFusionProposals(colour, b, defaults), Error);
+}
+
 TEST(JointParametersTest, AblationsSwitchTheirTerms) {
   EXPECT_FALSE(AblationTerms("P_M").flow);
   EXPECT_FALSE(AblationTerms("P_M").motion_reg);
