@@ -98,7 +98,7 @@ bool Tangent(const cv::Mat& pts, const cv::Mat& depth, int x, int y, int dx, int
     return true;
   };
   Eigen::Vector3d a, b, c;
-  at(x, y, &c);
+  if (!at(x, y, &c)) return false;  // no point at the centre: no tangent
   const bool has_a = at(x + dx, y + dy, &a), has_b = at(x - dx, y - dy, &b);
   if (has_a && has_b) {
     *t = a - b;
