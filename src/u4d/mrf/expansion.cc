@@ -86,7 +86,7 @@ ActiveBox FindActiveBox(const GridGraph& grid) {
 // Buffers reused across the moves of one AlphaExpansion.
 struct Workspace {
   ActiveBox box;                 // the moves only visit pixels in and next to it
-  std::vector<int> node_of;      // pixel -> graph node, -1 = fixed
+  std::vector<int> node_of;      // pixel -> graph node, -1 = fixed (all -1 between moves)
   std::vector<int> node_pixel;   // graph node -> pixel
   std::vector<double> unary;     // per node: E(x=1) - E(x=0) of its unary-like terms
   std::vector<uint8_t> changed;  // per pixel, all 0 between moves
@@ -165,7 +165,7 @@ MoveResult Move(const GridGraph& grid, const GridEnergy& energy, const Proposal&
   // grid, so the graph is the same).
   const ActiveBox& box = ws.box;
   if (box.x0 > box.x1) return result;
-  ws.node_of.assign(n, -1);
+  ws.node_of.resize(n, -1);  // reset after each move at the nodes only (not a memset of n)
   ws.node_pixel.clear();
   ws.unary.clear();
   for (int y = box.y0; y <= box.y1; ++y)
@@ -184,6 +184,13 @@ MoveResult Move(const GridGraph& grid, const GridEnergy& energy, const Proposal&
   const int num_nodes = static_cast<int>(ws.node_pixel.size());
   result.graph_nodes = num_nodes;
   if (num_nodes == 0) return result;
+  // node_of is back to all -1 when this move returns, whichever way.
+  struct ResetNodes {
+    Workspace& ws;
+    ~ResetNodes() {
+      for (const int p : ws.node_pixel) ws.node_of[p] = -1;
+    }
+  } reset_nodes{ws};
   ws.graph.Reset(num_nodes);
 
   // Pairwise terms touching a node: p is in the box or one row above it or
