@@ -116,11 +116,12 @@ DepthCostVolume ComputeDepthCostVolume(const std::vector<Camera>& cameras,
   vol.depths = InverseDepthSamples(depth_near, depth_far, options.num_depths);
   vol.unknown_cost = static_cast<float>(options.unknown_cost);
   const int L = options.num_depths;
-  const size_t plane = static_cast<size_t>(W) * H;
+  vol.slots = MakeRoiSlots(roi, W, H);
+  const size_t plane = vol.slots.count;
   vol.cost.assign(plane * L, 1.0f);
 
   const std::vector<int> aux = SelectAuxViews(cameras, ref_view, options.max_aux_views);
-  const cv::Rect box = roi.empty() ? cv::Rect(0, 0, W, H) : cv::boundingRect(roi);
+  const cv::Rect box = vol.slots.box;
   if (aux.empty() || box.area() == 0) return vol;
 
   // Working region: the ROI's bounding box plus the patch radius.
@@ -149,9 +150,9 @@ DepthCostVolume ComputeDepthCostVolume(const std::vector<Camera>& cameras,
       for (int c = 0; c < nc; ++c) var_i[i] += mm[i * nc + c] - m[i * nc + c] * m[i * nc + c];
   }
 
-  // Pixels to fill: inside the ROI and the box (region coordinates).
+  // Pixels to fill: the ROI's (region coordinates), in slot order.
   std::vector<int> todo;  // region index
-  todo.reserve(box.area());
+  todo.reserve(vol.slots.count);
   for (int y = box.y; y < box.y + box.height; ++y)
     for (int x = box.x; x < box.x + box.width; ++x)
       if (roi.empty() || roi.at<uint8_t>(y, x))
@@ -261,9 +262,7 @@ DepthCostVolume ComputeDepthCostVolume(const std::vector<Camera>& cameras,
       std::partial_sort(buf, buf + kk, buf + n);
       float sum = 0;
       for (int j = 0; j < kk; ++j) sum += buf[j];
-      const int i = todo[t];
-      const int gx = i % rw + region.x, gy = i / rw + region.y;
-      out[static_cast<size_t>(gy) * W + gx] = sum / kk;
+      out[t] = sum / kk;  // todo is in slot order
     }
   });
   return vol;
@@ -291,9 +290,11 @@ cv::Mat WinnerTakeAllDepth(const DepthCostVolume& volume, const cv::Mat& roi) {
             "WinnerTakeAllDepth: roi must be empty or CV_8U {}x{}, got type {} {}x{}", W, H,
             roi.type(), roi.cols, roi.rows);
   const int L = volume.NumLabels();
-  U4D_CHECK(volume.cost.size() == static_cast<size_t>(W) * H * L,
-            "WinnerTakeAllDepth: volume holds {} costs, expected {}x{}x{}", volume.cost.size(), W,
-            H, L);
+  U4D_CHECK(volume.slots.slot.size() == static_cast<size_t>(W) * H &&
+                volume.cost.size() == static_cast<size_t>(volume.slots.count) * L,
+            "WinnerTakeAllDepth: volume holds {} costs and {} slots, expected {} labels x {} "
+            "slots and {}x{} slots",
+            volume.cost.size(), volume.slots.slot.size(), L, volume.slots.count, W, H);
   cv::Mat depth(H, W, CV_32F, cv::Scalar(0));
   tbb::parallel_for(0, H, [&](int y) {
     float* row = depth.ptr<float>(y);

@@ -35,6 +35,7 @@
 #include <opencv2/core.hpp>
 
 #include "u4d/geometry/camera.h"
+#include "u4d/joint/roi_slots.h"
 
 namespace u4d {
 
@@ -58,12 +59,15 @@ struct DepthCostOptions {
 struct DepthCostVolume {
   int width = 0, height = 0;
   std::vector<float> depths;  // label -> z
-  // cost[label * width * height + y * width + x] in [0, 1]; 1 where no
-  // auxiliary view sees the point or outside `roi`.
+  RoiSlots slots;             // the stored pixels: the roi's (roi_slots.h)
+  // cost[label * slots.count + slots.slot[pixel]] in [0, 1]; 1 where no
+  // auxiliary view sees the point. Pixels outside the roi are not stored and
+  // cost 1 (At).
   std::vector<float> cost;
   float unknown_cost = 0.6f;
   float At(int pixel, int label) const {
-    return cost[static_cast<size_t>(label) * width * height + pixel];
+    const int s = slots.slot[pixel];
+    return s < 0 ? 1.0f : cost[static_cast<size_t>(label) * slots.count + s];
   }
   int NumLabels() const { return static_cast<int>(depths.size()); }
 };
@@ -82,8 +86,8 @@ std::vector<int> SelectAuxViews(const std::vector<Camera>& cameras, int ref_view
 // `cameras[v]` for every view (same order), all of one frame, at the working
 // resolution (the solver passes ScaledCamera'd cameras and resized images).
 // `roi` CV_8U of the reference size (nonzero = compute), empty = all; only the
-// bounding box of the ROI (plus the patch radius) is warped, so a small ROI
-// is proportionally cheaper. Parallel over depth labels (TBB).
+// bounding box of the ROI (plus the patch radius) is warped and only the ROI's
+// pixels are stored, so a small ROI is proportionally cheaper. Parallel over depth labels (TBB).
 // Throws u4d::Error on mismatched sizes/counts, an image that is not CV_8UC3,
 // a bad ref_view, or a bad depth range (need 0 < near < far).
 DepthCostVolume ComputeDepthCostVolume(const std::vector<Camera>& cameras,

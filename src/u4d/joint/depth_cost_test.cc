@@ -60,7 +60,9 @@ TEST_F(DepthCostSynthTest, VolumeShapeAndRange) {
   ASSERT_EQ(volume_.width, 480);
   ASSERT_EQ(volume_.height, 270);
   ASSERT_EQ(volume_.NumLabels(), 64);
-  ASSERT_EQ(volume_.cost.size(), 480u * 270u * 64u);
+  // Only the ROI's pixels are stored.
+  ASSERT_EQ(volume_.slots.count, cv::countNonZero(roi_));
+  ASSERT_EQ(volume_.cost.size(), static_cast<size_t>(volume_.slots.count) * 64u);
   EXPECT_NEAR(volume_.depths.front(), near_, 1e-5);
   EXPECT_NEAR(volume_.depths.back(), far_, 1e-5);
   // Uniform in inverse depth.

@@ -258,55 +258,86 @@ MotionCostVolume ComputeFlowCostVolume(const FlowCostInput& input,
   volume.width = W;
   volume.height = H;
   volume.motions = motions;
-  volume.cost.assign(static_cast<size_t>(L) * N, 0.0f);
+  volume.slots = MakeRoiSlots(input.roi, W, H);
+  const std::vector<int>& slot = volume.slots.slot;
+  const size_t S = volume.slots.count;
+  volume.cost.assign(static_cast<size_t>(L) * S, 0.0f);
+  if (S == 0) return volume;
   const float trunc = static_cast<float>(options.truncation);
   const int pr = options.patch_radius;
   const cv::Size ksize(2 * pr + 1, 2 * pr + 1);
+  // Work in the bounding box of the needed pixels: every roi pixel's patch
+  // lies in it (or beyond the image border, where the borders below act as on
+  // the whole image), so the box-filtered costs of the roi pixels are those of
+  // the whole image.
+  cv::Rect region;
+  {
+    int x0 = W, y0 = H, x1 = -1, y1 = -1;
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x)
+        if (needed[y * W + x]) {
+          x0 = std::min(x0, x), x1 = std::max(x1, x);
+          y0 = std::min(y0, y), y1 = std::max(y1, y);
+        }
+    region = cv::Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1);
+  }
+  const int rx = region.x, ry = region.y, rw = region.width, rh = region.height;
+  // Adds the region-sized `c` (region coordinates) at the roi pixels.
+  auto add_roi = [&](float* out, auto&& cost_at) {
+    for (int yy = 0; yy < rh; ++yy) {
+      const int* sl = &slot[static_cast<size_t>(yy + ry) * W + rx];
+      for (int xx = 0; xx < rw; ++xx)
+        if (sl[xx] >= 0) out[sl[xx]] += cost_at(yy, xx);
+    }
+  };
 
   tbb::parallel_for(0, L, [&](int l) {
     const Eigen::Vector2f m = motions[l];
-    float* out = &volume.cost[static_cast<size_t>(l) * N];
+    float* out = &volume.cost[static_cast<size_t>(l) * S];
     if (options.temporal) {
-      cv::Mat c(H, W, CV_32F);
+      cv::Mat c(rh, rw, CV_32F);
       const bool integer = IsInteger(m.x()) && IsInteger(m.y());
       const int mx = static_cast<int>(m.x()), my = static_cast<int>(m.y());
-      for (int y = 0; y < H; ++y) {
+      for (int yy = 0; yy < rh; ++yy) {
+        const int y = yy + ry;
         const cv::Vec3f* a = ref_t.ptr<cv::Vec3f>(y);
-        float* cr = c.ptr<float>(y);
-        for (int x = 0; x < W; ++x) {
+        float* cr = c.ptr<float>(yy);
+        for (int xx = 0; xx < rw; ++xx) {
+          const int x = xx + rx;
           if (!needed[y * W + x]) {
-            cr[x] = 0;
+            cr[xx] = 0;
             continue;
           }
           cv::Vec3f b;
           if (integer) {
-            const int xx = x + mx, yy = y + my;
-            if (xx < 0 || yy < 0 || xx >= W || yy >= H) {
-              cr[x] = trunc;
+            const int tx = x + mx, ty = y + my;
+            if (tx < 0 || ty < 0 || tx >= W || ty >= H) {
+              cr[xx] = trunc;
               continue;
             }
-            b = ref_t1.at<cv::Vec3f>(yy, xx);
+            b = ref_t1.at<cv::Vec3f>(ty, tx);
           } else if (!Sample(ref_t1, x + m.x(), y + m.y(), &b)) {
-            cr[x] = trunc;
+            cr[xx] = trunc;
             continue;
           }
-          cr[x] = ColourCost(a[x], b);
+          cr[xx] = ColourCost(a[x], b);
         }
       }
       if (pr > 0) cv::boxFilter(c, c, CV_32F, ksize, cv::Point(-1, -1), true, cv::BORDER_REPLICATE);
-      for (int p = 0; p < N; ++p)
-        if (in_roi[p]) out[p] += std::min(c.at<float>(p), trunc);
+      add_roi(out, [&](int yy, int xx) { return std::min(c.at<float>(yy, xx), trunc); });
     }
     if (use_cross) {
-      cv::Mat c(H, W, CV_32F, cv::Scalar(0)), w(H, W, CV_32F, cv::Scalar(0));
+      cv::Mat c(rh, rw, CV_32F, cv::Scalar(0)), w(rh, rw, CV_32F, cv::Scalar(0));
       std::vector<Eigen::Vector3f> dm(geometry.size());
       for (size_t g = 0; g < geometry.size(); ++g) dm[g] = geometry[g].a2 * m;
-      for (int y = 0; y < H; ++y) {
+      for (int yy = 0; yy < rh; ++yy) {
+        const int y = yy + ry;
         const cv::Vec3f* a = ref_t.ptr<cv::Vec3f>(y);
         const float* z = input.depth_t.ptr<float>(y);
-        float* cr = c.ptr<float>(y);
-        float* wr = w.ptr<float>(y);
-        for (int x = 0; x < W; ++x) {
+        float* cr = c.ptr<float>(yy);
+        float* wr = w.ptr<float>(yy);
+        for (int xx = 0; xx < rw; ++xx) {
+          const int x = xx + rx;
           const int p = y * W + x;
           if (!needed[p] || !(z[x] > 0) || !std::isfinite(z[x])) continue;
           float sum = 0;
@@ -330,8 +361,8 @@ MotionCostVolume ComputeFlowCostVolume(const FlowCostInput& input,
             ++n;
           }
           if (n > 0) {
-            cr[x] = sum / n;
-            wr[x] = 1;
+            cr[xx] = sum / n;
+            wr[xx] = 1;
           }
         }
       }
@@ -339,17 +370,17 @@ MotionCostVolume ComputeFlowCostVolume(const FlowCostInput& input,
         cv::boxFilter(c, c, CV_32F, ksize, cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
         cv::boxFilter(w, w, CV_32F, ksize, cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
       }
-      for (int p = 0; p < N; ++p) {
-        const float wp = w.at<float>(p);
-        if (in_roi[p] && wp > 0.5f) out[p] += std::min(c.at<float>(p) / wp, trunc);
-      }
+      add_roi(out, [&](int yy, int xx) {
+        const float wp = w.at<float>(yy, xx);
+        return wp > 0.5f ? std::min(c.at<float>(yy, xx) / wp, trunc) : 0.0f;
+      });
     }
     if (!allowed.empty()) {
       const int word = l / 64;
       const uint64_t bit = uint64_t{1} << (l % 64);
       for (int p = 0; p < N; ++p)
         if (constrained[p] && !(allowed[static_cast<size_t>(p) * words + word] & bit))
-          out[p] += kForbiddenMotion;
+          out[slot[p]] += kForbiddenMotion;  // constrained pixels are roi pixels
     }
   });
   return volume;
@@ -471,9 +502,10 @@ cv::Mat Refine(const MotionCostVolume& v, const std::vector<int>& labels) {
 
 void CheckVolume(const MotionCostVolume& v, const std::string& fn) {
   U4D_CHECK(v.width > 0 && v.height > 0 && !v.motions.empty() &&
-                v.cost.size() == v.motions.size() * v.width * v.height,
-            "{}: inconsistent cost volume ({}x{}, {} labels, {} costs)", fn, v.width, v.height,
-            v.motions.size(), v.cost.size());
+                v.slots.slot.size() == static_cast<size_t>(v.width) * v.height &&
+                v.cost.size() == v.motions.size() * v.slots.count,
+            "{}: inconsistent cost volume ({}x{}, {} labels, {} slots for {} pixels, {} costs)", fn,
+            v.width, v.height, v.motions.size(), v.slots.count, v.slots.slot.size(), v.cost.size());
 }
 
 }  // namespace

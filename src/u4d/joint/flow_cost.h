@@ -40,6 +40,7 @@
 
 #include "u4d/geometry/camera.h"
 #include "u4d/joint/motion_labels.h"
+#include "u4d/joint/roi_slots.h"
 
 namespace u4d {
 
@@ -63,11 +64,13 @@ inline constexpr float kForbiddenMotion = 1e9f;
 struct MotionCostVolume {
   int width = 0, height = 0;
   std::vector<Eigen::Vector2f> motions;  // label -> (dx, dy), pixels
-  // cost[label * width * height + pixel], pixel = y * width + x. Pixels outside
-  // the roi hold 0 for every label.
+  RoiSlots slots;                        // the stored pixels: the roi's (roi_slots.h)
+  // cost[label * slots.count + slots.slot[pixel]], pixel = y * width + x.
+  // Pixels outside the roi are not stored and cost 0 for every label (At).
   std::vector<float> cost;
   float At(int pixel, int label) const {
-    return cost[static_cast<size_t>(label) * width * height + pixel];
+    const int s = slots.slot[pixel];
+    return s < 0 ? 0.0f : cost[static_cast<size_t>(label) * slots.count + s];
   }
   int NumLabels() const { return static_cast<int>(motions.size()); }
 };

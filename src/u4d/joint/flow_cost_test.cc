@@ -134,6 +134,7 @@ TEST(MotionLabelsTest, ParabolicRefinementFindsSubPixelMinimum) {
   MotionCostVolume v;
   v.width = 2;
   v.height = 1;
+  v.slots = MakeRoiSlots(cv::Mat(), 2, 1);
   v.motions = BuildMotionLabels({}, MotionLabelOptions{});
   const Eigen::Vector2f truth(1.3f, -0.2f);
   for (const Eigen::Vector2f& m : v.motions)
@@ -246,6 +247,30 @@ TEST_F(FlowCostTest, DISABLED_WithTemporalTracks) {
   EXPECT_LT(e, 0.5 * zero);
 }
 
+// The volume stores the roi's pixels only, computed in the roi's bounding box:
+// their costs are those of the whole-image volume (same patches and borders;
+// the box filters' running sums start elsewhere, so up to float rounding).
+TEST_F(FlowCostTest, RoiVolumeMatchesTheWholeImageVolumeOnTheRoi) {
+  const std::vector<Eigen::Vector2f> labels = {{0, 0}, {2, -1}, {-3, 1}, {0.5f, 0.25f}};
+  FlowCostInput whole = input_;
+  whole.roi = cv::Mat();
+  const MotionCostVolume v = ComputeFlowCostVolume(input_, labels, MotionLabelOptions{}, {});
+  const MotionCostVolume w = ComputeFlowCostVolume(whole, labels, MotionLabelOptions{}, {});
+  ASSERT_EQ(v.slots.count, cv::countNonZero(input_.roi));
+  ASSERT_EQ(v.cost.size(), labels.size() * v.slots.count);
+  ASSERT_EQ(w.slots.count, input_.roi.cols * input_.roi.rows);
+  double max_diff = 0;
+  for (int p = 0; p < w.slots.count; ++p)
+    for (int l = 0; l < 4; ++l) {
+      if (input_.roi.ptr<uint8_t>()[p] == 0) {
+        ASSERT_EQ(v.At(p, l), 0.0f);  // outside the roi: not stored, 0
+        continue;
+      }
+      max_diff = std::max(max_diff, std::abs(double{v.At(p, l)} - w.At(p, l)));
+    }
+  EXPECT_LT(max_diff, 1e-5);
+}
+
 // FlowFieldCosts is the cost volume's E_f photometric part for a dense field:
 // an integer motion field costs what its label costs in the volume (without
 // e_F^S, so the sparse constraint is off here), up to float rounding.
@@ -298,6 +323,7 @@ TEST_F(FlowCostTest, BadInputsThrow) {
   ExpectErrorMentions([&] { BuildMotionLabels({{{0, 0}, {NAN, 0}, 0}}, lo); }, {"not finite"});
   MotionCostVolume v;
   v.width = v.height = 1;
+  v.slots = MakeRoiSlots(cv::Mat(), 1, 1);
   v.motions = labels;
   v.cost = {0};
   ExpectErrorMentions([&] { RefineFlowLabels(v, {0, 0}); }, {"expected 1 labels"});

@@ -737,7 +737,8 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
     pr.motion.width = pr.width;
     pr.motion.height = pr.height;
     pr.motion.motions = {Eigen::Vector2f::Zero()};
-    pr.motion.cost.assign(pr.n, 0.f);
+    pr.motion.slots = MakeRoiSlots(roi, pr.width, pr.height);
+    pr.motion.cost.assign(pr.motion.slots.count, 0.f);
   }
   end_phase("flow volume");
   const int num_motions = pr.motion.NumLabels();
