@@ -17,7 +17,7 @@
 //       [--per-view] [--dump DIR] [--pose-3d-own-label] [--semantic-temporal]
 //       [--occluder-limb-radius M] [--appearance-refits N] [--appearance-inset PX]
 //       [--no-carry-depth] [--depth-coarse-step N] [--sweeps N]
-//       [--depth-refine-band N] [--fusion-rounds N]
+//       [--depth-refine-band N] [--fusion-rounds N] [--no-depth-object-ranges]
 // --per-view: one line per method and view-frame (IoU, depth within 5 %, flow
 // EPE), for paired comparisons of the ablations. --dump DIR: per view-frame
 // f<frame>_v<view>_<name>: the initial, GT and each method's labels (16-bit
@@ -81,20 +81,21 @@ struct Args {
   std::string methods;      // comma-separated subset of full and the ablations (empty = all)
   std::string
       reg_boundary;  // E_r at label boundaries: free | discontinuity | ignore (empty = default)
-  bool force_merge = false;        // every touching pair merged in the initial masks (see above)
-  bool start_given = false;        // --start was given
-  bool split_merged = true;        // FrameSetupOptions::split_merged (--no-split-merged: off)
-  bool per_view = false;           // print every method's IoU / depth / EPE per view-frame
-  bool semantic_temporal = false;  // JointViewOptions::semantic_temporal = true
-  bool pose_3d_own_label = false;  // PosePriorOptions::shape_own_label_only = true
-  double occluder_limb = -1;       // PosePriorOptions::occluder_limb_radius_m (-1 = default)
-  int appearance_refits = -1;      // JointViewOptions::appearance_refits (-1 = default)
-  int appearance_inset = -1;       // LabelCostOptions::appearance_inset_px (-1 = default)
-  bool carry_depth = true;         // JointViewOptions::label_moves_carry_depth
-  int depth_coarse_step = -1;      // JointViewOptions::depth_coarse_step (-1 = default)
-  int depth_refine_band = -1;      // JointViewOptions::depth_refine_band (-1 = default)
-  int fusion_rounds = -1;          // FlowFusionOptions::rounds (-1 = default)
-  int sweeps = -1;                 // JointViewOptions::sweeps_per_block (-1 = default)
+  bool force_merge = false;         // every touching pair merged in the initial masks (see above)
+  bool start_given = false;         // --start was given
+  bool split_merged = true;         // FrameSetupOptions::split_merged (--no-split-merged: off)
+  bool per_view = false;            // print every method's IoU / depth / EPE per view-frame
+  bool semantic_temporal = false;   // JointViewOptions::semantic_temporal = true
+  bool pose_3d_own_label = false;   // PosePriorOptions::shape_own_label_only = true
+  double occluder_limb = -1;        // PosePriorOptions::occluder_limb_radius_m (-1 = default)
+  int appearance_refits = -1;       // JointViewOptions::appearance_refits (-1 = default)
+  int appearance_inset = -1;        // LabelCostOptions::appearance_inset_px (-1 = default)
+  bool carry_depth = true;          // JointViewOptions::label_moves_carry_depth
+  int depth_coarse_step = -1;       // JointViewOptions::depth_coarse_step (-1 = default)
+  int depth_refine_band = -1;       // JointViewOptions::depth_refine_band (-1 = default)
+  bool depth_object_ranges = true;  // JointViewOptions::depth_object_ranges
+  int fusion_rounds = -1;           // FlowFusionOptions::rounds (-1 = default)
+  int sweeps = -1;                  // JointViewOptions::sweeps_per_block (-1 = default)
   std::string dump;  // folder: per view-frame labels, depth, truth and pose map (diagnosis)
 };
 
@@ -166,6 +167,8 @@ Args ParseArgs(int argc, char** argv) {
       a.depth_refine_band = std::stoi(next());
     else if (k == "--fusion-rounds")
       a.fusion_rounds = std::stoi(next());
+    else if (k == "--no-depth-object-ranges")
+      a.depth_object_ranges = false;
     else
       throw Error(fmt::format(
           "joint_bench: unknown argument '{}' (expected --views, --width, --height, --frames, "
@@ -174,7 +177,7 @@ Args ParseArgs(int argc, char** argv) {
           "--no-split-merged, --per-view, --dump, --pose-3d-own-label, "
           "--semantic-temporal, --occluder-limb-radius, --appearance-refits, "
           "--appearance-inset, --no-carry-depth, --depth-coarse-step, --sweeps, "
-          "--depth-refine-band)",
+          "--depth-refine-band, --fusion-rounds, --no-depth-object-ranges)",
           k));
   }
   U4D_CHECK(a.frames >= 3, "joint_bench: --frames must be >= 3 (frames 1..frames-2 are solved)");
@@ -292,6 +295,7 @@ int main(int argc, char** argv) try {
     if (args.depth_coarse_step >= 0) options.depth_coarse_step = args.depth_coarse_step;
     if (args.depth_refine_band >= 0) options.depth_refine_band = args.depth_refine_band;
     if (args.fusion_rounds >= 0) options.fusion.rounds = args.fusion_rounds;
+    options.depth_object_ranges = args.depth_object_ranges;
     if (args.sweeps >= 0) options.sweeps_per_block = args.sweeps;
     if (args.occluder_limb >= 0) options.pose.occluder_limb_radius_m = args.occluder_limb;
     if (args.reg_boundary == "free")

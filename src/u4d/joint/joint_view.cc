@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <ctime>
+#include <limits>
 
 #include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
@@ -43,9 +44,15 @@ struct Problem {
   std::array<std::vector<float>, 4> reg_edge;  // colour contrast weight per forward direction
   DepthCostVolume depth;                       // E_d
   int unknown = 0;                             // the label U (= number of depths)
-  std::vector<int> previous_depth_label;       // temporal E_s; -1 = none
-  MotionCostVolume motion;                     // E_f
-  float flow_scale = 1;                        // normalises E_f to [0, 1]
+  // Per pixel, the depth labels it may take besides U (depth_object_ranges):
+  // [depth_lo, depth_hi]; empty = every depth.
+  std::vector<int16_t> depth_lo, depth_hi;
+  bool DepthAllowed(int p, int label) const {
+    return label == unknown || depth_lo.empty() || (label >= depth_lo[p] && label <= depth_hi[p]);
+  }
+  std::vector<int> previous_depth_label;  // temporal E_s; -1 = none
+  MotionCostVolume motion;                // E_f
+  float flow_scale = 1;                   // normalises E_f to [0, 1]
   PosePriorMap pose;
   bool use_pose = false;
   double pose_2d_share = 0, pose_3d_share = 0;  // λ_p λ_2d / (λ_2d + λ_3d), ...
@@ -347,7 +354,8 @@ struct DepthBlock : mrf::GridEnergy {
   // a pixel with a depth may move by up to `band` labels or to U; one at U
   // may take any depth. band < 0: no restriction.
   int band = -1;
-  bool MayTake(int, int current, int proposal) const override {
+  bool MayTake(int p, int current, int proposal) const override {
+    if (!pr.DepthAllowed(p, proposal)) return false;
     if (band < 0 || proposal == pr.unknown) return true;
     return current == pr.unknown || std::abs(current - proposal) <= band;
   }
@@ -693,6 +701,34 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
   U4D_CHECK(far > near, "SolveJointView: view {} has no object with a depth range", v);
   pr.depth = ComputeDepthCostVolume(in.cameras_t, in.images_t, v, roi, near, far, o.depth);
   pr.unknown = pr.depth.NumLabels();
+  if (o.depth_object_ranges) {
+    // A pixel may take the depths of the objects whose region (grown like the
+    // ROI) holds it; one in no object's region keeps every depth.
+    pr.depth_lo.assign(pr.n, std::numeric_limits<int16_t>::max());
+    pr.depth_hi.assign(pr.n, -1);
+    for (const JointObject& obj : in.objects) {
+      if (!(obj.depth_near > 0 && obj.depth_far > obj.depth_near)) continue;
+      int lo = pr.unknown, hi = -1;
+      for (int i = 0; i < pr.unknown; ++i)
+        if (pr.depth.depths[i] >= obj.depth_near && pr.depth.depths[i] <= obj.depth_far)
+          lo = std::min(lo, i), hi = std::max(hi, i);
+      if (hi < 0) continue;
+      cv::Mat grown = in.initial_labels == obj.id;
+      if (!obj.region.empty()) grown |= obj.region > 0;
+      if (o.roi_margin_px > 0)
+        cv::dilate(grown, grown,
+                   cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * o.roi_margin_px + 1,
+                                                                         2 * o.roi_margin_px + 1)));
+      for (int p = 0; p < pr.n; ++p)
+        if (grown.data[p]) {
+          pr.depth_lo[p] = static_cast<int16_t>(std::min<int>(pr.depth_lo[p], lo));
+          pr.depth_hi[p] = static_cast<int16_t>(std::max<int>(pr.depth_hi[p], hi));
+        }
+    }
+    for (int p = 0; p < pr.n; ++p)
+      if (pr.depth_hi[p] < 0)
+        pr.depth_lo[p] = 0, pr.depth_hi[p] = static_cast<int16_t>(pr.unknown - 1);
+  }
   if (!in.previous_depth.empty()) {
     pr.previous_depth_label.assign(pr.n, -1);
     const std::vector<float>& z = pr.depth.depths;
@@ -755,6 +791,7 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
     if (!pr.grid.IsActive(p)) return;
     double best = 1e300;
     for (int i = 0; i <= pr.unknown; ++i) {
+      if (!pr.DepthAllowed(p, i)) continue;
       const double e = pr.DepthUnary(p, i, pr.motion.motions[zero_motion]);
       if (e < best) best = e, pr.d[p] = i;
     }

@@ -129,6 +129,11 @@ struct JointViewOptions {
   // on both joint_bench presets (a view 13-19 % less), for an energy 0.2 %
   // higher and the same IoU, depth within 1 % and EPE (docs/joint.md, "Speed").
   int depth_refine_band = 4;
+  // A pixel may take only the depths of the objects whose region (grown by
+  // roi_margin_px) holds it, each object's [depth_near, depth_far], or U; a
+  // pixel in no object's region may take every depth (false: every pixel
+  // every depth of the union range).
+  bool depth_object_ranges = true;
   double motion_truncation_px = 4;  // τ_m, pixels (working resolution)
   // E_r's distance: min(|Δm|², τ_m²) / τ_m² (the paper's squared difference; true) or
   // min(|Δm|, τ_m) / τ_m (a metric, every expansion move submodular; false).
