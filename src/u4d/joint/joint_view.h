@@ -49,7 +49,8 @@
 // labelled l (label_moves_carry_depth). Every move is an expansion move of the full energy
 // restricted to what it changes and is accepted only when the full energy decreases, so the energy
 // never increases (JointViewResult::energy_trace). Tractability (the design brief): only pixels of
-// the objects' regions (dilated) are optimised, depth labels span the objects' depth range, motion
+// the objects' regions (dilated) are optimised, depth labels span the objects' depth range (a
+// pixel taking those of the objects near it: depth_object_ranges), motion
 // labels are windows around the sparse track displacements, and the problem is solved at a working
 // resolution (JointViewOptions::working_width).
 #pragma once
