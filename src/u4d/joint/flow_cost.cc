@@ -270,17 +270,8 @@ MotionCostVolume ComputeFlowCostVolume(const FlowCostInput& input,
   // lies in it (or beyond the image border, where the borders below act as on
   // the whole image), so the box-filtered costs of the roi pixels are those of
   // the whole image.
-  cv::Rect region;
-  {
-    int x0 = W, y0 = H, x1 = -1, y1 = -1;
-    for (int y = 0; y < H; ++y)
-      for (int x = 0; x < W; ++x)
-        if (needed[y * W + x]) {
-          x0 = std::min(x0, x), x1 = std::max(x1, x);
-          y0 = std::min(y0, y), y1 = std::max(y1, y);
-        }
-    region = cv::Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1);
-  }
+  const cv::Rect region =
+      cv::boundingRect(cv::Mat(H, W, CV_8U, const_cast<uint8_t*>(needed.data())));
   const int rx = region.x, ry = region.y, rw = region.width, rh = region.height;
   // Adds the region-sized `c` (region coordinates) at the roi pixels.
   auto add_roi = [&](float* out, auto&& cost_at) {

@@ -401,6 +401,16 @@ cv::Mat Grey(const cv::Mat& bgr) {
   return g;
 }
 
+// `mask` (CV_8U) grown by a disc of radius `margin` pixels (0: unchanged).
+cv::Mat GrowRegion(const cv::Mat& mask, int margin) {
+  if (margin <= 0) return mask;
+  cv::Mat grown;
+  cv::dilate(
+      mask, grown,
+      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * margin + 1, 2 * margin + 1)));
+  return grown;
+}
+
 cv::Mat RegionOfInterest(const JointViewInput& in, int margin) {
   const cv::Size size = in.initial_labels.size();
   cv::Mat roi = in.initial_labels > 0;
@@ -411,11 +421,7 @@ cv::Mat RegionOfInterest(const JointViewInput& in, int margin) {
               size.height);
     roi |= obj.region > 0;
   }
-  if (margin > 0)
-    cv::dilate(
-        roi, roi,
-        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * margin + 1, 2 * margin + 1)));
-  return roi;
+  return GrowRegion(roi, margin);
 }
 
 // e_r^X(p): mean minus min of a label cost over the 3x3 window, at the labels.
@@ -713,12 +719,9 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
         if (pr.depth.depths[i] >= obj.depth_near && pr.depth.depths[i] <= obj.depth_far)
           lo = std::min(lo, i), hi = std::max(hi, i);
       if (hi < 0) continue;
-      cv::Mat grown = in.initial_labels == obj.id;
-      if (!obj.region.empty()) grown |= obj.region > 0;
-      if (o.roi_margin_px > 0)
-        cv::dilate(grown, grown,
-                   cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * o.roi_margin_px + 1,
-                                                                         2 * o.roi_margin_px + 1)));
+      cv::Mat own = in.initial_labels == obj.id;
+      if (!obj.region.empty()) own |= obj.region > 0;
+      const cv::Mat grown = GrowRegion(own, o.roi_margin_px);  // as the ROI
       for (int p = 0; p < pr.n; ++p)
         if (grown.data[p]) {
           pr.depth_lo[p] = static_cast<int16_t>(std::min<int>(pr.depth_lo[p], lo));
