@@ -66,6 +66,9 @@ Command MakeRunCommand() {
                 ->capture_default_str();
             app.add_option("--rounds", o.joint.rounds, "alternations of the l, d, m blocks")
                 ->capture_default_str();
+            app.add_option("--poisson-depth", o.fusion.poisson_depth,
+                           "octree depth of each object's Poisson surface")
+                ->capture_default_str();
             app.add_option("--picture-width", o.picture_width, "viewer picture width (0 = full)")
                 ->capture_default_str();
             app.add_option("--threads", o.threads, "views solved in parallel (0 = all cores)")

@@ -1,6 +1,8 @@
 // Timing of the fusion module (docs/fusion.md): FuseObject per object per
 // frame at 8 views x 480x270 and 8 x 960x540, TrackVertices per step, and
-// the vertex drift of a tracked 10-frame segment against the GT meshes.
+// the vertex drift of a tracked 10-frame segment against the GT meshes;
+// then, on the 480x270 frame, FuseObject per Poisson octree depth and
+// thread count (time, vertices, Chamfer against the GT mesh).
 // A plain executable that prints; run from a Release build:
 //   build/bench/fusion_bench
 #include <algorithm>
@@ -59,6 +61,21 @@ int main() {
           w, h, id, fuse_s, fm.num_points_used, fm.mesh->vertices_.size(), r.chamfer * 1e3,
           r.pred_to_gt * 1e3, r.gt_to_pred * 1e3);
       if (frames < 3) continue;  // tracking only on the 10-frame segment
+      for (const auto& [depth, threads] :
+           {std::pair{8, 1}, std::pair{8, 2}, std::pair{7, 1}, std::pair{7, 2}, std::pair{9, 1}}) {
+        FusionOptions fo;
+        fo.poisson_depth = depth;
+        fo.poisson_threads = threads;
+        Timer tp;
+        const FusedMesh pm =
+            FuseObject(maps[0].cameras, maps[0].depths, maps[0].ids, maps[0].images, id, fo);
+        const double pm_s = tp.Seconds();
+        const eval::ChamferResult pr = eval::MeshChamfer(*pm.mesh, gt, {});
+        std::printf(
+            "  poisson depth %d, %d thread(s): FuseObject %.2f s, %zu vertices, chamfer "
+            "%.2f mm\n",
+            depth, threads, pm_s, pm.mesh->vertices_.size(), pr.chamfer * 1e3);
+      }
       // Track over the segment; drift against the matched GT vertices.
       open3d::geometry::PointCloud gt0;
       gt0.points_ = gt.vertices_;

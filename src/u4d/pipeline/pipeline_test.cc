@@ -240,7 +240,9 @@ TEST(PipelineTest, ResumesAndRecoversFromAnInterruption) {
   for (const PartTime& part : ReadRunLog(scene).segment_parts) {
     part_names.push_back(part.name);
     EXPECT_GE(part.seconds, 0.0) << part.name;
-    if (part.name == "solve") EXPECT_GT(part.seconds, 0.0);
+    if (part.name == "solve") {
+      EXPECT_GT(part.seconds, 0.0);
+    }
   }
   EXPECT_EQ(part_names, (std::vector<std::string>{"inputs", "solve", "maps", "fusion", "scene_flow",
                                                   "animation"}));
