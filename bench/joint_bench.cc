@@ -18,7 +18,7 @@
 //       [--occluder-limb-radius M] [--appearance-refits N] [--appearance-inset PX]
 //       [--no-carry-depth] [--depth-coarse-step N] [--sweeps N]
 //       [--depth-refine-band N] [--fusion-rounds N] [--no-depth-object-ranges]
-//       [--motion-window N]
+//       [--motion-window N] [--motion-candidates K]
 // --per-view: one line per method and view-frame (IoU, depth within 5 %, flow
 // EPE), for paired comparisons of the ablations. --dump DIR: per view-frame
 // f<frame>_v<view>_<name>: the initial, GT and each method's labels (16-bit
@@ -96,6 +96,7 @@ struct Args {
   int depth_refine_band = -1;       // JointViewOptions::depth_refine_band (-1 = default)
   bool depth_object_ranges = true;  // JointViewOptions::depth_object_ranges
   int motion_window = -1;           // MotionLabelOptions::window (-1 = default)
+  int motion_candidates = -1;       // JointViewOptions::motion_candidates_per_pixel (-1 = default)
   int fusion_rounds = -1;           // FlowFusionOptions::rounds (-1 = default)
   int sweeps = -1;                  // JointViewOptions::sweeps_per_block (-1 = default)
   std::string dump;  // folder: per view-frame labels, depth, truth and pose map (diagnosis)
@@ -173,6 +174,8 @@ Args ParseArgs(int argc, char** argv) {
       a.depth_object_ranges = false;
     else if (k == "--motion-window")
       a.motion_window = std::stoi(next());
+    else if (k == "--motion-candidates")
+      a.motion_candidates = std::stoi(next());
     else
       throw Error(fmt::format(
           "joint_bench: unknown argument '{}' (expected --views, --width, --height, --frames, "
@@ -181,7 +184,8 @@ Args ParseArgs(int argc, char** argv) {
           "--no-split-merged, --per-view, --dump, --pose-3d-own-label, "
           "--semantic-temporal, --occluder-limb-radius, --appearance-refits, "
           "--appearance-inset, --no-carry-depth, --depth-coarse-step, --sweeps, "
-          "--depth-refine-band, --fusion-rounds, --no-depth-object-ranges, --motion-window)",
+          "--depth-refine-band, --fusion-rounds, --no-depth-object-ranges, --motion-window, "
+          "--motion-candidates)",
           k));
   }
   U4D_CHECK(a.frames >= 3, "joint_bench: --frames must be >= 3 (frames 1..frames-2 are solved)");
@@ -301,6 +305,7 @@ int main(int argc, char** argv) try {
     if (args.fusion_rounds >= 0) options.fusion.rounds = args.fusion_rounds;
     options.depth_object_ranges = args.depth_object_ranges;
     if (args.motion_window >= 0) options.motion_labels.window = args.motion_window;
+    if (args.motion_candidates >= 0) options.motion_candidates_per_pixel = args.motion_candidates;
     if (args.sweeps >= 0) options.sweeps_per_block = args.sweeps;
     if (args.occluder_limb >= 0) options.pose.occluder_limb_radius_m = args.occluder_limb;
     if (args.reg_boundary == "free")

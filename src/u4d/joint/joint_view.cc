@@ -373,6 +373,24 @@ struct MotionBlock : mrf::GridEnergy {
     return pr.Cached(p, q) +
            pr.PairMotion(p, q, pr.l[p], pr.l[q], pr.motion.motions[mp], pr.motion.motions[mq]);
   }
+  // JointViewOptions::motion_candidates_per_pixel: per pixel, the k-th lowest unary
+  // (a pixel may take a motion whose unary is at most that); empty = all.
+  std::vector<float> candidate_cut;
+  void LimitCandidates(int k) {
+    const int num = pr.motion.NumLabels();
+    if (k <= 0 || k >= num) return;
+    candidate_cut.assign(pr.n, std::numeric_limits<float>::infinity());
+    tbb::parallel_for(0, pr.n, [&](int p) {
+      if (!pr.grid.IsActive(p)) return;
+      std::vector<float> u(num);
+      for (int i = 0; i < num; ++i) u[i] = static_cast<float>(Unary(p, i));
+      std::nth_element(u.begin(), u.begin() + (k - 1), u.end());
+      candidate_cut[p] = u[k - 1];
+    });
+  }
+  bool MayTake(int p, int, int proposal) const override {
+    return candidate_cut.empty() || static_cast<float>(Unary(p, proposal)) <= candidate_cut[p];
+  }
   double PairwiseDecreaseBound(int p, int from, int to) const override {
     return reg_weight[p] *
            pr.MotionRhoDecreaseBound(pr.motion.motions[from], pr.motion.motions[to]);
@@ -523,6 +541,9 @@ void JointViewOptions::Check() const {
   U4D_CHECK(depth_refine_band >= 0, "JointViewOptions.depth_refine_band must be >= 0, got {}",
             depth_refine_band);
   U4D_CHECK(motion_truncation_px > 0, "JointViewOptions.motion_truncation_px must be > 0");
+  U4D_CHECK(motion_candidates_per_pixel >= 0,
+            "JointViewOptions.motion_candidates_per_pixel must be >= 0, got {}",
+            motion_candidates_per_pixel);
   U4D_CHECK(roi_margin_px >= 0, "JointViewOptions.roi_margin_px must be >= 0");
   U4D_CHECK(appearance_refits >= 0, "JointViewOptions.appearance_refits must be >= 0, got {}",
             appearance_refits);
@@ -870,7 +891,9 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
       block_timer = Timer();
       block_start = std::clock();
       pr.FillPairCache(Problem::CachedPart::kLabelDepth);
-      mrf::AlphaExpansion(pr.grid, MotionBlock(pr), motion_candidates, &pr.m, eo);
+      MotionBlock motion_block(pr);
+      motion_block.LimitCandidates(o.motion_candidates_per_pixel);
+      mrf::AlphaExpansion(pr.grid, motion_block, motion_candidates, &pr.m, eo);
       pr.SyncMotion();
       result.energy_trace.push_back({"motion", pr.Energy(), block_timer.Seconds()});
       block_seconds[2] += result.energy_trace.back().seconds;

@@ -135,6 +135,15 @@ struct JointViewOptions {
   // pixel in no object's region may take every depth (false: every pixel
   // every depth of the union range).
   bool depth_object_ranges = true;
+  // > 0: in the motion block a pixel may take only the motions among its
+  // motion_candidates_per_pixel lowest unaries (at its labels after the depth
+  // block; ties included) or keep its own; 0 = every motion. The flow fusion
+  // after the blocks is not limited. With 12 of the ~90 motions, the motion
+  // block took 0.4x its time on both joint_bench presets; after the fusion
+  // the energy was 0.1-0.3 % higher and the EPE on people 0.251 -> 0.258 px
+  // (handshake) and 0.095 -> 0.096 px (meetup), IoU and depth unchanged
+  // (docs/joint.md, "Session 12").
+  int motion_candidates_per_pixel = 12;
   double motion_truncation_px = 4;  // τ_m, pixels (working resolution)
   // E_r's distance: min(|Δm|², τ_m²) / τ_m² (the paper's squared difference; true) or
   // min(|Δm|, τ_m) / τ_m (a metric, every expansion move submodular; false).

@@ -37,25 +37,31 @@ class JointViewSynthTest : public ::testing::Test {
     const std::vector<std::vector<Pose3d>> poses = ReadGtPoses3d(capture);
     return ReadJointFrameData(capture, reader, frame, poses);
   }
+  // Frame 1's per-view inputs and truth. GT sparse correspondences stand in
+  // for the temporal tracks (measured in features/temporal_tracks_test.cc,
+  // precision 0.98).
+  static std::vector<JointViewInput> FrameInputs(const Capture& capture,
+                                                 std::vector<ViewTruth>* truth) {
+    FrameReader reader(capture);
+    const int frame = 1;
+    JointFrameData data = GtPoseFrameData(capture, &reader, frame);
+    for (int v = 0; v < capture.NumViews(); ++v) {
+      truth->push_back(ReadViewTruth(capture, v, frame));
+      data.sparse[v] = SparseMotionsFromTruth(truth->back(), 150, 11 + v);
+    }
+    double scale = 0;
+    std::vector<JointViewInput> inputs = MakeJointViewInputs(data, {}, &scale);
+    EXPECT_EQ(scale, 1.0);  // 320 wide: solved at full resolution
+    return inputs;
+  }
   static fs::path* dir_;
 };
 fs::path* JointViewSynthTest::dir_ = nullptr;
 
 TEST_F(JointViewSynthTest, EnergyDecreasesAndImprovesLabelsDepthAndFlow) {
   const Capture capture = ReadCapture(*dir_);
-  FrameReader reader(capture);
-  const int frame = 1;
-  JointFrameData data = GtPoseFrameData(capture, &reader, frame);
   std::vector<ViewTruth> truth;
-  // GT sparse correspondences stand in for the temporal tracks (measured in
-  // features/temporal_tracks_test.cc, precision 0.98).
-  for (int v = 0; v < capture.NumViews(); ++v) {
-    truth.push_back(ReadViewTruth(capture, v, frame));
-    data.sparse[v] = SparseMotionsFromTruth(truth.back(), 150, 11 + v);
-  }
-  double scale = 0;
-  const std::vector<JointViewInput> inputs = MakeJointViewInputs(data, {}, &scale);
-  ASSERT_EQ(scale, 1.0);  // 320 wide: solved at full resolution
+  const std::vector<JointViewInput> inputs = FrameInputs(capture, &truth);
 
   JointViewOptions options;
   options.weights = PaperWeights(capture.scene, capture.NumViews());
@@ -126,6 +132,39 @@ TEST_F(JointViewSynthTest, EnergyDecreasesAndImprovesLabelsDepthAndFlow) {
   EXPECT_LT(flow_refined.Epe(), flow_zero.Epe());
   EXPECT_LT(flow_refined.Epe(), flow_deepflow.Epe());
   EXPECT_LT(flow_refined.Epe(), flow_dis.Epe());
+}
+
+// JointViewOptions::motion_candidates_per_pixel (the motion block's moves
+// limited to each pixel's lowest unaries) against every motion: the flow on
+// the people stays as accurate against the GT, and the final energy (after
+// the unlimited flow fusion) within 1 % (joint_bench: +0.1-0.3 %).
+TEST_F(JointViewSynthTest, MotionCandidatesPerPixelKeepTheFlowAccuracy) {
+  const Capture capture = ReadCapture(*dir_);
+  std::vector<ViewTruth> truth;
+  const std::vector<JointViewInput> inputs = FrameInputs(capture, &truth);
+  JointViewOptions limited;
+  limited.weights = PaperWeights(capture.scene, capture.NumViews());
+  ASSERT_GT(limited.motion_candidates_per_pixel, 0);
+  JointViewOptions every = limited;
+  every.motion_candidates_per_pixel = 0;
+  eval::FlowMetrics flow_limited, flow_every;
+  int views = 0;
+  for (int v = 0; v < 2; ++v) {
+    if (inputs[v].objects.empty()) continue;
+    const JointViewResult a = SolveJointView(inputs[v], limited);
+    const JointViewResult b = SolveJointView(inputs[v], every);
+    ASSERT_GT(a.num_motion_labels, 2 * limited.motion_candidates_per_pixel);
+    const cv::Mat people = truth[v].instances.ids > 0;
+    flow_limited.Add(
+        eval::EvaluateFlow(a.flow, truth[v].flow, truth[v].flow_valid, people, "limited"));
+    flow_every.Add(eval::EvaluateFlow(b.flow, truth[v].flow, truth[v].flow_valid, people, "all"));
+    EXPECT_LE(a.energy_trace.back().energy, 1.01 * b.energy_trace.back().energy) << "view " << v;
+    ++views;
+  }
+  std::printf("EPE on people: %d candidates per pixel %.3f px, every motion %.3f px\n",
+              limited.motion_candidates_per_pixel, flow_limited.Epe(), flow_every.Epe());
+  ASSERT_EQ(views, 2);
+  EXPECT_LE(flow_limited.Epe(), flow_every.Epe() + 0.02);
 }
 
 // The capsules' z-buffer against the GT instances, and

@@ -97,6 +97,8 @@ nlohmann::json RunOptions::ToJson() const {
         {"depth_truncation", joint.depth_truncation},
         {"motion_truncation_px", joint.motion_truncation_px},
         {"roi_margin_px", joint.roi_margin_px},
+        {"depth_object_ranges", joint.depth_object_ranges},
+        {"motion_candidates_per_pixel", joint.motion_candidates_per_pixel},
         {"motion_reg_quadratic", joint.motion_reg_quadratic},
         {"motion_reg_edge_aware", joint.motion_reg_edge_aware},
         {"motion_reg_boundary", static_cast<int>(joint.motion_reg_boundary)},
