@@ -63,12 +63,12 @@ struct FusionOptions {
   double consistency_tolerance = 0.02;  // metres of depth difference counted as agreement
   double min_confidence = 0.0;          // drop points with a lower confidence (in [0, 1])
   int min_points = 100;                 // fewer oriented points: empty result
-  // Octree depth of the Poisson reconstruction. 7 (a cell of ~1.7 cm over a
-  // 2 m person) matches the default 480-pixel working width: against 8 it
-  // takes half the time (Open3D's surface extraction starts a thread per
-  // slice) for +0.1 mm Chamfer on the 8-view pipeline run and a quarter of
-  // the vertices (docs/fusion.md); raise it with the working width.
-  int poisson_depth = 7;
+  // Octree depth of the Poisson reconstruction. 7 takes half the time
+  // (Open3D's surface extraction starts a thread per octree slice) for a
+  // quarter of the vertices, Chamfer +0.1 mm and a projection error of 0.179
+  // instead of 0.169 on the 8-view pipeline run (docs/fusion.md): a speed
+  // setting (`u4d run --poisson-depth 7`), not the default.
+  int poisson_depth = 8;
   double poisson_scale = 1.1;            // Poisson bounding-cube scale over the points
   int poisson_threads = 1;               // Open3D Poisson threads (-1 = all; 1 is deterministic)
   double density_quantile = 0.02;        // trim vertices below this density quantile
