@@ -66,6 +66,9 @@ Command MakeRunCommand() {
                 ->capture_default_str();
             app.add_option("--rounds", o.joint.rounds, "alternations of the l, d, m blocks")
                 ->capture_default_str();
+            app.add_option("--motion-candidates", o.joint.motion_candidates_per_pixel,
+                           "motions a pixel may take in the motion block (0 = all)")
+                ->capture_default_str();
             app.add_option("--poisson-depth", o.fusion.poisson_depth,
                            "octree depth of each object's Poisson surface")
                 ->capture_default_str();
