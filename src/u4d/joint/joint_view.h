@@ -141,8 +141,10 @@ struct JointViewOptions {
   // after the blocks is not limited. With 12 of the ~90 motions, the motion
   // block took 0.4x its time on both joint_bench presets; after the fusion
   // the energy was 0.1-0.3 % higher and the EPE on people 0.251 -> 0.258 px
-  // (handshake) and 0.095 -> 0.096 px (meetup), IoU and depth unchanged
-  // (docs/joint.md, "Session 12").
+  // (handshake) and 0.095 -> 0.096 px (meetup), IoU and depth unchanged.
+  // On fast motion it costs temporal coherence: S_e 0.151 -> 0.167 on the
+  // walking scenario of scripts/results.sh (0 is the setting there;
+  // docs/joint.md, "Session 12").
   int motion_candidates_per_pixel = 12;
   double motion_truncation_px = 4;  // τ_m, pixels (working resolution)
   // E_r's distance: min(|Δm|², τ_m²) / τ_m² (the paper's squared difference; true) or
