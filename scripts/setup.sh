@@ -8,7 +8,7 @@ packages=(
   libopencv-dev libopencv-contrib-dev libeigen3-dev libopen3d-dev libtbb-dev
   nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev libboost-graph-dev
-  libcpp-httplib-dev chromium
+  libcpp-httplib-dev chromium zlib1g-dev
   python3-matplotlib  # scripts/results.sh's scaling plot
 )
 # The web viewer (viewer/) needs node and npm; any recent node (>= 18) will
