@@ -49,14 +49,30 @@ struct Context {
   }
 };
 
+// The mesh of object `id` at `frame` under a directory laid out like gt/.
+fs::path MeshPath(const fs::path& base, int id, int frame) {
+  return base / layout::GtMesh(id, frame).lexically_relative("gt");
+}
+
+// The ids among `ids` that have a mesh file at `frame` under `base`.
+std::vector<int> MeshIdsAt(const fs::path& base, const std::vector<int>& ids, int frame) {
+  std::vector<int> at;
+  for (int id : ids)
+    if (fs::exists(MeshPath(base, id, frame))) at.push_back(id);
+  return at;
+}
+
 InstanceMask ReadGtInstances(const fs::path& root, const std::string& view, int frame) {
   return ReadInstanceMask(root / layout::GtInstances(view, frame),
                           root / layout::GtInstancesInfo(view, frame));
 }
 
+// Instance IoU per view-frame, and the identity figures from the same matches.
 void EvaluateInstanceMasks(Context& c) {
   InstanceSegAccumulator acc;
-  for (const CaptureView& v : c.capture.views)
+  IdentityAccumulator identity(c.options.instances.match_iou);
+  for (int vi = 0; vi < c.capture.NumViews(); ++vi) {
+    const CaptureView& v = c.capture.views[vi];
     for (int f = 0; f < c.capture.num_frames; ++f) {
       const InstanceMask gt = ReadGtInstances(c.root, v.name, f);
       const fs::path png = c.input.initial_masks
@@ -67,11 +83,24 @@ void EvaluateInstanceMasks(Context& c) {
         pred = ReadInstanceMask(png, Sidecar(png));
       else
         ++c.report.missing_predictions["instances"];
-      acc.Add(EvaluateInstances(
+      const InstanceSegResult r = EvaluateInstances(
           pred, gt, c.options.instances,
-          fmt::format("{} vs {}", png.string(), layout::GtInstances(v.name, f).string())));
+          fmt::format("{} vs {}", png.string(), layout::GtInstances(v.name, f).string()));
+      acc.Add(r);
+      identity.Add(vi, f, r.matches);
     }
+  }
+  // Which of the matched ids have a mesh: the mesh files of the prediction's
+  // meshes/ (the layout EvaluateMeshes reads), per frame.
+  if (c.HasPred("meshes")) {
+    const std::vector<int> pred_ids = MeshObjectIds(c.input.pred / "meshes");
+    const std::vector<int> gt_ids = MeshObjectIds(c.root / "gt/meshes");
+    for (int f = 0; f < c.capture.num_frames; ++f)
+      identity.AddMeshes(f, MeshIdsAt(c.root / "gt", gt_ids, f),
+                         MeshIdsAt(c.input.pred, pred_ids, f));
+  }
   c.report.instances = acc;
+  c.report.identity = identity;
 }
 
 void EvaluateDepthMaps(Context& c) {
@@ -187,7 +216,7 @@ std::map<int, open3d::geometry::TriangleMesh> ReadMeshes(const fs::path& base,
                                                          const std::vector<int>& ids, int frame) {
   std::map<int, open3d::geometry::TriangleMesh> meshes;
   for (int id : ids) {
-    const fs::path path = base / layout::GtMesh(id, frame).lexically_relative("gt");
+    const fs::path path = MeshPath(base, id, frame);
     if (fs::exists(path)) meshes.emplace(id, ReadMesh(path));
   }
   return meshes;
@@ -344,6 +373,7 @@ EvalReport EvaluateCapture(const EvalInput& input, const EvalOptions& options) {
 nlohmann::json EvalReport::ToJson() const {
   nlohmann::json j = {{"format", "u4d-eval"}, {"source", source}};
   if (instances) j["instances"] = instances->ToJson();
+  if (identity) j["identity"] = identity->ToJson();
   if (depth) j["depth"] = depth->ToJson();
   if (depth_people) j["depth_people"] = depth_people->ToJson();
   if (flow) j["flow"] = flow->ToJson();
@@ -384,6 +414,26 @@ std::string EvalReport::FormatTable() const {
     s += fmt::format("  {:<34} {:>10} / {} / {} / {}\n", "missed / false pos. / merged / split",
                      instances->missed, instances->false_positives, instances->merged,
                      instances->split);
+  }
+  if (identity) {
+    const IdentitySummary id = identity->Summarize();
+    s += fmt::format("identity ({} GT people, {} predicted ids, match IoU >= {})\n",
+                     id.people.size(), id.people_of_pred_id.size(), id.match_iou);
+    row("ids per person (ideal 1)", id.mean_ids_per_person, "");
+    row("people per predicted id (ideal 1)", id.mean_people_per_pred_id, "");
+    s += fmt::format("  {:<34} {:>10} / {} / {}\n", "switches / cross-view / shared ids",
+                     id.switches, id.cross_view_disagreements, id.shared_pred_ids);
+    if (id.with_meshes)
+      s += fmt::format("  {:<34} {:>10} / {} ({} unmatched)\n", "frames without mesh / visible",
+                       id.no_mesh_frames, id.visible_frames, id.unmatched_frames);
+    for (const IdentityPerson& p : id.people) {
+      std::string line =
+          fmt::format("  person {:<5} {:>3} ids, {} switches, {} cross-view", p.gt_id,
+                      p.pred_ids.size(), p.switches, p.cross_view_disagreements);
+      if (id.with_meshes)
+        line += fmt::format(", {} / {} frames without mesh", p.no_mesh_frames, p.visible_frames);
+      s += line + "\n";
+    }
   }
   auto depth_rows = [&](const char* title, const DepthMetrics& d) {
     s += fmt::format("{}\n", title);

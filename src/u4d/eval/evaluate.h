@@ -27,6 +27,7 @@
 #include <nlohmann/json.hpp>
 
 #include "u4d/eval/dense_metrics.h"
+#include "u4d/eval/identity_metrics.h"
 #include "u4d/eval/mesh_metrics.h"
 #include "u4d/eval/pose_metrics.h"
 #include "u4d/eval/segmentation_metrics.h"
@@ -63,6 +64,10 @@ struct MeshEval {
 struct EvalReport {
   std::string source;  // what was evaluated (directory or "initial masks")
   std::optional<InstanceSegAccumulator> instances;
+  // From the same matches as `instances` (and, when the prediction has
+  // meshes/, its mesh files): ids per person, switches, purity, frames
+  // without a mesh.
+  std::optional<IdentityAccumulator> identity;
   std::optional<DepthMetrics> depth, depth_people;
   std::optional<FlowMetrics> flow, flow_people;
   std::optional<RatioMean> silhouette_overlap_error;  // S_e

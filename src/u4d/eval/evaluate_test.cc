@@ -102,8 +102,17 @@ TEST(EvaluateCapture, GroundTruthAgainstItselfIsPerfect) {
   EXPECT_EQ(r.projection_error->Mean(), 0.0);
   EXPECT_EQ(r.projection_error->count, 2 * kFrames);
   EXPECT_TRUE(r.missing_predictions.empty());
+  ASSERT_TRUE(r.identity);
+  const IdentitySummary id = r.identity->Summarize();
+  ASSERT_EQ(id.people.size(), 1u);
+  EXPECT_EQ(id.people[0].pred_ids, std::vector<int>{1});
+  EXPECT_EQ(id.switches + id.cross_view_disagreements + id.shared_pred_ids, 0);
+  ASSERT_TRUE(id.with_meshes);
+  EXPECT_EQ(id.visible_frames, kFrames);
+  EXPECT_EQ(id.no_mesh_frames, 0);
   const nlohmann::json j = r.ToJson();
   EXPECT_EQ(j["instances"]["mean_instance_iou"].get<double>(), 1.0);
+  EXPECT_EQ(j["identity"]["mean_ids_per_person"].get<double>(), 1.0);
   EXPECT_FALSE(r.FormatTable().empty());
   fs::remove_all(dir);
 }
@@ -122,6 +131,12 @@ TEST(EvaluateCapture, InitialMasksWithADroppedView) {
   EXPECT_DOUBLE_EQ(r.instances->MeanInstanceIoU(), 0.5);
   EXPECT_EQ(r.instances->missed, kFrames);
   EXPECT_EQ(r.missing_predictions.at("instances"), kFrames);
+  ASSERT_TRUE(r.identity);  // from the same matches: cam0 only, id 1 throughout
+  const IdentitySummary id = r.identity->Summarize();
+  EXPECT_DOUBLE_EQ(id.mean_ids_per_person, 1.0);
+  EXPECT_EQ(id.people.at(0).matched_view_frames, kFrames);
+  EXPECT_EQ(id.switches + id.cross_view_disagreements, 0);
+  EXPECT_FALSE(id.with_meshes);
   fs::remove_all(dir);
 }
 

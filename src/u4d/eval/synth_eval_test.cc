@@ -28,6 +28,11 @@ TEST_F(SynthEvalTest, GroundTruthAgainstItselfIsPerfect) {
   EXPECT_DOUBLE_EQ(r.flow->Epe(), 0.0);
   EXPECT_DOUBLE_EQ(r.poses->Mpjpe(), 0.0);
   EXPECT_DOUBLE_EQ(r.projection_error->Mean(), 0.0);
+  ASSERT_TRUE(r.identity.has_value());
+  const eval::IdentitySummary id = r.identity->Summarize();
+  EXPECT_DOUBLE_EQ(id.mean_ids_per_person, 1.0);
+  EXPECT_EQ(id.switches + id.cross_view_disagreements + id.shared_pred_ids, 0);
+  EXPECT_EQ(id.no_mesh_frames, 0);
 }
 
 TEST_F(SynthEvalTest, InitialMasksScoreClearlyBelowPerfect) {
