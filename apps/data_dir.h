@@ -25,4 +25,13 @@ inline fs::path DefaultMocapClip() {
   return clip;
 }
 
+// The captured mesh sequences of the realistic synthetic presets.
+inline fs::path DefaultCapturedMeshes() {
+  const fs::path dir = DataDir() / "captured_meshes";
+  U4D_CHECK(fs::is_directory(dir),
+            "captured mesh sequences not found: {} (set U4D_DATA_DIR or pass --captured-meshes)",
+            dir.string());
+  return dir;
+}
+
 }  // namespace u4d::apps

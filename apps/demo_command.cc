@@ -51,7 +51,7 @@ Command MakeDemoCommand() {
             const fs::path scene = out / "scene";
             fmt::print("== 1/3 synthesise ({} preset)\n", a->preset);
             const synth::SynthOptions o = SynthOptionsFromArgs(
-                a->preset, a->frames, a->views, a->width, a->height, 0, a->seed, "", "default");
+                a->preset, a->frames, a->views, a->width, a->height, 0, a->seed, "", "preset");
             PrintSynthSummary(synth::WriteSyntheticCapture(o, capture, /*progress=*/true),
                               capture.string());
 

@@ -22,7 +22,8 @@ struct SynthArgs {
   int people = 0;
   uint64_t seed = 1;
   std::string mocap;
-  std::string degrade = "default";
+  std::string degrade = "preset";
+  std::string captured_meshes;
   bool no_meshes = false;
   int start_frame = -1;
 };
@@ -54,6 +55,7 @@ synth::SynthOptions SynthOptionsFromArgs(const std::string& preset, int frames, 
   if (height > 0) o.rig.image_height = height;
   if (people > 0) o.num_people = people;
   if (preset == "meetup") o.mocap_bvh = mocap.empty() ? DefaultMocapClip() : fs::path(mocap);
+  if (!o.captured.empty()) o.captured_meshes = DefaultCapturedMeshes();
   if (degrade == "none") {
     o.masks = synth::MaskDegradeOptions::None();
     o.keypoints = synth::KeypointDegradeOptions::None();
@@ -63,8 +65,14 @@ synth::SynthOptions SynthOptionsFromArgs(const std::string& preset, int frames, 
   } else if (degrade == "harsh") {
     o.masks = synth::MaskDegradeOptions::Harsh();
     o.keypoints = synth::KeypointDegradeOptions::Harsh();
+  } else if (degrade == "realistic") {
+    o.masks = synth::MaskDegradeOptions::Realistic();
+  } else if (degrade == "default") {
+    o.masks = synth::MaskDegradeOptions::Default();
+    o.keypoints = synth::KeypointDegradeOptions::Default();
   } else {
-    U4D_CHECK(degrade == "default", "--degrade must be none, mild, default or harsh, got '{}'",
+    U4D_CHECK(degrade == "preset",
+              "--degrade must be preset, none, mild, default, realistic or harsh, got '{}'",
               degrade);
   }
   return o;
@@ -74,8 +82,10 @@ Command MakeSynthCommand() {
   auto a = std::make_shared<SynthArgs>();
   return {"synth", "write a synthetic capture with full ground truth",
           [=](CLI::App& app) {
-            app.add_option("--preset", a->preset, "handshake | meetup | moving-cameras")
-                ->capture_default_str();
+            std::string presets;
+            for (const std::string& n : synth::SynthPresetNames())
+              presets += (presets.empty() ? "" : " | ") + n;
+            app.add_option("--preset", a->preset, presets)->capture_default_str();
             app.add_option("-o,--output", a->out, "capture directory to write")->required();
             app.add_option("--frames", a->frames, "number of frames (default: the preset's)");
             app.add_option("--views", a->views, "number of cameras (default 8)");
@@ -86,8 +96,12 @@ Command MakeSynthCommand() {
             app.add_option("--mocap", a->mocap,
                            "meetup: BVH clip (default: CMU 131 in the data dir)");
             app.add_option("--degrade", a->degrade,
-                           "initial-input errors: none | mild | default | harsh")
+                           "initial-input errors: preset (the preset's own) | none | mild | "
+                           "default | realistic | harsh")
                 ->capture_default_str();
+            app.add_option("--captured-meshes", a->captured_meshes,
+                           "realistic presets: the captured mesh sequences (default: "
+                           "captured_meshes in the data dir)");
             app.add_flag("--no-meshes", a->no_meshes, "skip the per-frame GT meshes");
             app.add_option("--start-frame", a->start_frame,
                            "first script frame of the capture (-1: the window centred on the "
@@ -99,6 +113,7 @@ Command MakeSynthCommand() {
                 SynthOptionsFromArgs(a->preset, a->frames, a->views, a->width, a->height, a->people,
                                      a->seed, a->mocap, a->degrade);
             o.write_meshes = !a->no_meshes;
+            if (!a->captured_meshes.empty()) o.captured_meshes = a->captured_meshes;
             o.start_frame = a->start_frame;
             PrintSynthSummary(synth::WriteSyntheticCapture(o, a->out, /*progress=*/true), a->out);
             return 0;

@@ -79,6 +79,36 @@ void CheckNonNeg(double v, const char* name) {
   U4D_CHECK(std::isfinite(v) && v >= 0, "{}: expected a finite value >= 0, got {}", name, v);
 }
 
+// P(event now | whether it happened at the previous frame) of a two-state
+// Markov chain with long-run rate `rate` and P(event | event before) =
+// `persistence`.
+double MarkovProbability(double rate, double persistence, bool before) {
+  if (before) return persistence;
+  if (rate >= 1) return 1;
+  return std::clamp(rate * (1 - persistence) / (1 - rate), 0.0, 1.0);
+}
+
+// Removes, from instance `label` of `work` inside `roi`, each thin piece (what
+// an opening with a disc of diameter `width` takes away, at least width^2
+// pixels) with probability `prob`. Returns the number of pieces removed.
+int DropThinParts(cv::Mat work, int label, double width, double prob, Rng& rng) {
+  const cv::Mat own = work == label;
+  const int w = std::max(3, static_cast<int>(std::lround(width)) | 1);
+  cv::Mat opened;
+  cv::morphologyEx(own, opened, cv::MORPH_OPEN,
+                   cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(w, w)));
+  const cv::Mat thin = own & ~opened;
+  cv::Mat components, stats, centroids;
+  const int count = cv::connectedComponentsWithStats(thin, components, stats, centroids, 8, CV_32S);
+  int dropped = 0;
+  for (int c = 1; c < count; ++c) {
+    if (stats.at<int>(c, cv::CC_STAT_AREA) < w * w || !rng.Bernoulli(prob)) continue;
+    work.setTo(0, components == c);
+    ++dropped;
+  }
+  return dropped;
+}
+
 // ------------------------------------------------------------ mask helpers
 
 // A smooth zero-mean random field of size `size` with standard deviation
@@ -188,6 +218,16 @@ void MaskDegradeOptions::Check() const {
   CheckProb(lower_leg_drop_prob, "MaskDegradeOptions.lower_leg_drop_prob");
   CheckProb(merge_prob, "MaskDegradeOptions.merge_prob");
   CheckNonNeg(merge_distance_px, "MaskDegradeOptions.merge_distance_px");
+  U4D_CHECK(std::isfinite(merge_persistence) && merge_persistence <= 1,
+            "MaskDegradeOptions.merge_persistence: expected < 0 (off) or a probability, got {}",
+            merge_persistence);
+  U4D_CHECK(std::isfinite(miss_persistence) && miss_persistence <= 1,
+            "MaskDegradeOptions.miss_persistence: expected < 0 (off) or a probability, got {}",
+            miss_persistence);
+  CheckProb(thin_part_drop_prob, "MaskDegradeOptions.thin_part_drop_prob");
+  U4D_CHECK(std::isfinite(thin_part_width_px) && thin_part_width_px >= 3,
+            "MaskDegradeOptions.thin_part_width_px: expected >= 3 pixels, got {}",
+            thin_part_width_px);
   CheckNonNeg(false_positive_rate, "MaskDegradeOptions.false_positive_rate");
   U4D_CHECK(false_positive_rate <= 50,
             "MaskDegradeOptions.false_positive_rate: expected <= 50 per image, got {}",
@@ -242,6 +282,26 @@ MaskDegradeOptions MaskDegradeOptions::Mild() {
 
 MaskDegradeOptions MaskDegradeOptions::Default() { return MaskDegradeOptions(); }
 
+MaskDegradeOptions MaskDegradeOptions::Realistic() {
+  MaskDegradeOptions o;
+  o.frame_drop_prob = 0;
+  o.instance_miss_prob = 0.03;
+  o.miss_persistence = 0.6;
+  o.boundary_amplitude_px = 3.0;
+  o.boundary_correlation_px = 32.0;
+  o.blur_sigma_px = 2.0;
+  o.lower_arm_drop_prob = 0;
+  o.lower_leg_drop_prob = 0.1;
+  o.thin_part_drop_prob = 0.35;
+  o.thin_part_width_px = 13.0;
+  o.merge_prob = 0.6;
+  o.merge_persistence = 0.85;
+  o.merge_distance_px = 4.0;
+  o.false_positive_rate = 0.05;
+  o.false_positive_max_radius_px = 40.0;
+  return o;
+}
+
 MaskDegradeOptions MaskDegradeOptions::Harsh() {
   MaskDegradeOptions o;
   o.frame_drop_prob = 0.08;
@@ -264,7 +324,8 @@ MaskDegradeOptions MaskDegradeOptions::Harsh() {
 // ------------------------------------------------------------ masks
 
 DegradedMask DegradeInstanceMask(const cv::Mat& gt_ids, const cv::Mat& parts,
-                                 const MaskDegradeOptions& options, uint64_t seed) {
+                                 const MaskDegradeOptions& options, uint64_t seed,
+                                 DetectorMemory* memory) {
   options.Check();
   U4D_CHECK(!gt_ids.empty(), "DegradeInstanceMask: gt_ids is empty");
   U4D_CHECK(gt_ids.type() == CV_16UC1, "DegradeInstanceMask: gt_ids must be CV_16UC1, got type {}",
@@ -315,6 +376,10 @@ DegradedMask DegradeInstanceMask(const cv::Mat& gt_ids, const cv::Mat& parts,
   };
 
   // 1. Merging, decided on the GT masks: pairs within merge_distance_px.
+  const bool merge_memory = memory != nullptr && options.merge_persistence >= 0;
+  const bool miss_memory = memory != nullptr && options.miss_persistence >= 0;
+  DetectorMemory now;
+  now.present.insert(gt_list.begin(), gt_list.end());
   UnionFind groups(n);
   const int reach = static_cast<int>(std::ceil(options.merge_distance_px));
   for (int a = 0; a < n && options.merge_prob > 0; ++a) {
@@ -337,9 +402,16 @@ DegradedMask DegradeInstanceMask(const cv::Mat& gt_ids, const cv::Mat& parts,
       if (min_dist - 1 > options.merge_distance_px) continue;
       Rng pair_rng(Mix(call_seed, kPairStream + static_cast<uint64_t>(gt_list[a]) * 65536 +
                                       static_cast<uint64_t>(gt_list[b])));
-      if (pair_rng.Bernoulli(options.merge_prob)) {
+      const std::pair<int, int> pair(gt_list[a], gt_list[b]);
+      double prob = options.merge_prob;
+      if (merge_memory && memory->touching.count(pair))
+        prob = MarkovProbability(options.merge_prob, options.merge_persistence,
+                                 memory->merged.count(pair) > 0);
+      now.touching.insert(pair);
+      if (pair_rng.Bernoulli(prob)) {
         groups.Unite(a, b);
-        out.merged_gt_ids.emplace_back(gt_list[a], gt_list[b]);
+        out.merged_gt_ids.push_back(pair);
+        now.merged.insert(pair);
       }
     }
   }
@@ -380,6 +452,11 @@ DegradedMask DegradeInstanceMask(const cv::Mat& gt_ids, const cv::Mat& parts,
       }
     }
   }
+  if (options.thin_part_drop_prob > 0) {
+    for (int i = 0; i < n; ++i)
+      out.dropped_limbs += DropThinParts(work(boxes[gt_list[i]]), i + 1, options.thin_part_width_px,
+                                         options.thin_part_drop_prob, instance_rngs[i]);
+  }
 
   // 3. Candidates: one per group of merged GT instances.
   struct Candidate {
@@ -398,7 +475,15 @@ DegradedMask DegradeInstanceMask(const cv::Mat& gt_ids, const cv::Mat& parts,
     uint64_t key = 0;
     for (int m : cand.members) key = Mix(key, static_cast<uint64_t>(gt_list[m]));
     Rng rng(Mix(call_seed, kGroupStream + key));
-    if (rng.Bernoulli(options.instance_miss_prob)) continue;
+    double miss_prob = options.instance_miss_prob;
+    const int single = cand.merged ? 0 : gt_list[cand.members[0]];
+    if (miss_memory && single != 0 && memory->present.count(single))
+      miss_prob = MarkovProbability(options.instance_miss_prob, options.miss_persistence,
+                                    memory->missed.count(single) > 0);
+    if (rng.Bernoulli(miss_prob)) {
+      if (single != 0) now.missed.insert(single);
+      continue;
+    }
     cv::Rect box = boxes[gt_list[cand.members[0]]];
     for (int m : cand.members) box |= boxes[gt_list[m]];
     const cv::Rect roi = expand(box);
@@ -510,6 +595,7 @@ DegradedMask DegradeInstanceMask(const cv::Mat& gt_ids, const cv::Mat& parts,
   }
   for (int i = 0; i < n; ++i)
     if (!covered[i]) out.missed_gt_ids.push_back(gt_list[i]);
+  if (memory != nullptr) *memory = std::move(now);
   return out;
 }
 

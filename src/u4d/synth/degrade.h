@@ -9,8 +9,10 @@
 // the standard library either. Each GT instance / person draws from its own
 // sub-stream (seed mixed with its id), so turning one degradation on or off
 // does not reshuffle the errors of the others. Callers give a distinct seed per
-// view and frame, e.g. DegradeSeed(base, view, frame); errors are independent
-// between frames (no temporal correlation is modelled).
+// view and frame, e.g. DegradeSeed(base, view, frame). Errors are independent
+// between frames unless the caller keeps a DetectorMemory per view and the
+// options give a persistence (a detector that merges two touching people, or
+// misses one, tends to do so for several frames).
 //
 // What each degradation does and the preset strengths: docs/synthetic.md,
 // section "Degraded initial inputs".
@@ -18,6 +20,7 @@
 
 #include <array>
 #include <cstdint>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -72,6 +75,22 @@ struct MaskDegradeOptions {
   // The gap between them is bridged (morphological closing, background only).
   double merge_prob = 0.15;
   double merge_distance_px = 3.0;
+  // Temporal correlation of merges, with a DetectorMemory: a pair that was
+  // touching at the previous frame stays merged with this probability, and
+  // becomes merged with the probability that keeps the long-run merge rate at
+  // merge_prob (a two-state Markov chain). < 0: every frame independent.
+  double merge_persistence = -1;
+  // The same for a single GT instance missed at the previous frame
+  // (instance_miss_prob is then the long-run miss rate). < 0: independent.
+  double miss_persistence = -1;
+
+  // Thin parts, from the mask alone (for people without a part map, and for
+  // what a low-resolution mask head loses: forearms, hands, lower legs, a
+  // hem): the parts of an instance that a morphological opening with a disc
+  // of diameter thin_part_width_px removes, each connected piece of at least
+  // thin_part_width_px^2 pixels missing with this probability. 0 disables.
+  double thin_part_drop_prob = 0;
+  double thin_part_width_px = 12.0;
 
   // False positives: the number of spurious "person" blobs per view-frame is
   // Poisson with this mean. Each is a noisy ellipse on background pixels with
@@ -103,11 +122,23 @@ struct MaskDegradeOptions {
   // Presets. None(): the GT unchanged (up to renumbering; scores 1).
   // Mild(): a good detector on easy images. Default(): the field values above,
   // a typical Mask R-CNN on 640-1280 px wide images. Harsh(): a weak detector
-  // or crowded, low-resolution images.
+  // or crowded, low-resolution images. Realistic(): a Mask R-CNN-class
+  // detector's failure modes at the rates it shows on multi-person capture
+  // footage, correlated in time (docs/synthetic.md).
   static MaskDegradeOptions None();
   static MaskDegradeOptions Mild();
   static MaskDegradeOptions Default();
   static MaskDegradeOptions Harsh();
+  static MaskDegradeOptions Realistic();
+};
+
+// What a detector carried over from the previous frame of one view: the GT
+// pairs that were touching and which of them it merged, and the GT ids that
+// were present and which of them it missed. Start empty; DegradeInstanceMask
+// reads and replaces it.
+struct DetectorMemory {
+  std::set<std::pair<int, int>> touching, merged;
+  std::set<int> present, missed;
 };
 
 struct DegradedMask {
@@ -132,10 +163,12 @@ struct DegradedMask {
 // parts: CV_8UC1 of the same size with BodyPart values (scene.h), or empty
 //   for "no part map" (then no limb is ever dropped).
 // seed: per view-frame (see DegradeSeed), mixed with options.seed.
+// memory: the view's DetectorMemory (updated), or null for independent frames.
 // Throws u4d::Error on an empty or wrongly typed image, mismatched sizes, a
 // part value outside BodyPart, or invalid options.
 DegradedMask DegradeInstanceMask(const cv::Mat& gt_ids, const cv::Mat& parts,
-                                 const MaskDegradeOptions& options, uint64_t seed);
+                                 const MaskDegradeOptions& options, uint64_t seed,
+                                 DetectorMemory* memory = nullptr);
 
 // ------------------------------------------------------------ keypoints --
 
@@ -197,11 +230,10 @@ struct DetectedPose2d {
 
 // Projects each person's 3D COCO keypoints (world, metres) into `camera` and
 // degrades them. Person i has GT instance id i + 1 in `gt_ids` (as in
-// SceneFrame). Keypoints behind the camera or outside the image (before or
-// after noise) are not detected. Returns the detected people sorted by
-// decreasing score. gt_ids: CV_16UC1 of the camera's size.
-// Throws u4d::Error on a bad camera, a wrongly typed / sized gt_ids, a
-// non-finite keypoint, or invalid options.
+// SceneFrame). Keypoints behind the camera or outside the
+// image (before or after noise) are not detected. Returns the detected people sorted by decreasing
+// score. gt_ids: CV_16UC1 of the camera's size. Throws u4d::Error on a bad camera, a wrongly typed
+// / sized gt_ids, a non-finite keypoint, or invalid options.
 std::vector<DetectedPose2d> DegradeKeypoints(
     const std::vector<std::array<Eigen::Vector3d, coco17::kNumKeypoints>>& coco_keypoints_3d,
     const Camera& camera, const cv::Mat& gt_ids, const KeypointDegradeOptions& options,

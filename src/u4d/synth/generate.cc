@@ -23,8 +23,39 @@
 
 namespace u4d::synth {
 
+namespace {
+
+// The realistic presets' world (generate.h).
+void SetRealistic(SynthOptions* o) {
+  o->environment.indoor = true;
+  o->script_seconds = 1.0;  // no procedural people: the script is empty
+  o->masks = MaskDegradeOptions::Realistic();
+  o->render.noise_sigma = 2.5f;
+  o->render.gain_jitter = 0.08f;
+  o->effects.motion_blur_shutter = 0.5;
+  o->effects.shadow_strength = 0.45;
+  CapturedPerformerOptions dance;
+  dance.source = "pdance/frames";
+  dance.stature = 1.72;
+  dance.position = {-0.6, 0.0};
+  dance.yaw = 0.4;
+  dance.appearance_seed = 11;
+  CapturedPerformerOptions jump;
+  jump.source = "pjump/pjump_positions.pc2";
+  jump.source_has_head = false;
+  jump.stature = 1.80;
+  jump.position = {0.6, 0.1};
+  jump.yaw = -2.2;
+  jump.appearance_seed = 23;
+  o->captured = {dance, jump};
+  o->captured_touch_gap = 0.02;
+}
+
+}  // namespace
+
 const std::vector<std::string>& SynthPresetNames() {
-  static const std::vector<std::string> names = {"handshake", "meetup", "moving-cameras"};
+  static const std::vector<std::string> names = {"handshake", "meetup", "moving-cameras",
+                                                 "realistic", "realistic-moving"};
   return names;
 }
 
@@ -43,6 +74,12 @@ SynthOptions SynthPreset(const std::string& preset) {
     o.environment.indoor = true;
     o.rig.angular_speed_deg_per_s = 12.0;
     o.rig.bob_amplitude = 0.1;
+  } else if (preset == "realistic" || preset == "realistic-moving") {
+    SetRealistic(&o);
+    if (preset == "realistic-moving") {
+      o.rig.angular_speed_deg_per_s = 12.0;
+      o.rig.bob_amplitude = 0.1;
+    }
   } else {
     std::string known;
     for (const auto& n : SynthPresetNames()) known += (known.empty() ? "" : ", ") + n;
@@ -71,6 +108,15 @@ void SynthOptions::Check() const {
   flow.Check();
   masks.Check();
   keypoints.Check();
+  effects.Check();
+  for (const CapturedPerformerOptions& c : captured) c.Check();
+  U4D_CHECK(std::isfinite(captured_touch_gap), "synth: captured_touch_gap must be finite");
+  U4D_CHECK(captured.empty() || !captured_meshes.empty() ||
+                std::all_of(captured.begin(), captured.end(),
+                            [](const auto& c) { return c.source.is_absolute(); }),
+            "synth: the '{}' preset reads captured mesh sequences: give their folder "
+            "(captured_meshes)",
+            preset);
 }
 
 namespace {
@@ -78,7 +124,30 @@ namespace {
 PeopleScript MakeScript(const SynthOptions& o, int script_frames) {
   if (o.preset == "meetup")
     return MakeMeetupScript(o.num_people, script_frames, o.fps, o.seed, o.mocap_bvh);
+  if (o.preset == "realistic" || o.preset == "realistic-moving") {
+    PeopleScript empty;
+    empty.fps = o.fps;
+    empty.num_frames = script_frames;
+    return empty;
+  }
   return MakeHandshakeScript(script_frames, o.fps, o.seed);
+}
+
+// The captured performers of the capture, loaded and placed.
+std::vector<CapturedPerformer> LoadCaptured(const SynthOptions& o) {
+  std::vector<CapturedPerformer> performers;
+  for (CapturedPerformerOptions c : o.captured) {
+    if (c.source.is_relative()) c.source = o.captured_meshes / c.source;
+    performers.push_back(LoadCapturedPerformer(c, o.num_frames));
+  }
+  if (performers.size() >= 2 && o.captured_touch_gap >= 0) {
+    const Eigen::Vector2d line = o.captured[1].position - o.captured[0].position;
+    const Eigen::Vector2d direction =
+        line.norm() > 1e-9 ? Eigen::Vector2d(line.normalized()) : Eigen::Vector2d(1, 0);
+    PlaceAtClosestApproach(performers[0], &performers[1], direction, o.captured_touch_gap,
+                           o.num_frames);
+  }
+  return performers;
 }
 
 // First script frame of the capture window (see SynthOptions::start_frame).
@@ -130,7 +199,7 @@ void WriteMeshPly(const fs::path& path, const SceneObject& person) {
 
 std::vector<Pose3d> GtPoses(const SceneFrame& frame) {
   std::vector<Pose3d> poses;
-  for (size_t p = 0; p < frame.people.size(); ++p) {
+  for (size_t p = 0; p < frame.joints.size(); ++p) {
     Pose3d pose;
     pose.person_id = frame.people[p].instance_id;
     for (int j = 0; j < kNumJoints; ++j) pose.joints[j] << frame.joints[p][j], 1.0;
@@ -200,10 +269,11 @@ SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& 
       std::max(options.num_frames + std::max(0, options.start_frame),
                static_cast<int>(std::ceil(options.script_seconds * options.fps)));
   const PeopleScript script = MakeScript(options, script_frames);
+  const std::vector<CapturedPerformer> captured = LoadCaptured(options);
   const int start = WindowStart(options, script);
   const std::vector<SceneObject> statics = MakeEnvironment(options.environment);
   const auto cameras = RigSequence(options.rig, options.num_frames, options.fps);
-  summary.num_people = static_cast<int>(script.people.size());
+  summary.num_people = static_cast<int>(script.people.size() + captured.size());
 
   fs::create_directories(dir);
   // capture.json is written last and marks a complete capture: remove a stale one first.
@@ -215,9 +285,15 @@ SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& 
   auto pose_frame = [&](int f) {
     SceneFrame frame;
     PosePeople(script, start + f, &frame);
+    for (const CapturedPerformer& c : captured)
+      frame.people.push_back(
+          PoseCapturedPerformer(c, f, static_cast<int>(frame.people.size()) + 1));
     frame.statics = statics;
     return frame;
   };
+  // Without any skeleton (only captured performers) the capture holds no 2D
+  // keypoints and no GT joints, rather than files that say nobody was seen.
+  const bool keypoints = !script.people.empty();
 
   nlohmann::json degradation = nlohmann::json::array();
   std::mutex mutex;
@@ -233,6 +309,7 @@ SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& 
   SceneFrame frame = pose_frame(0);
   std::vector<RenderedView> views = RenderViews(cameras[0], frame, options.render, layers_ptr);
   summary.render_seconds += render_timer.Seconds();
+  std::vector<DetectorMemory> detector_memory(num_views);
 
   for (int f = 0; f < options.num_frames; ++f) {
     // Render t+1 first: the forward flow of frame t needs it.
@@ -245,14 +322,16 @@ SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& 
       summary.render_seconds += render_timer.Seconds();
     }
 
+    const FloorShadowMap shadows =
+        MakeFloorShadowMap(frame, options.render.light_direction, options.effects);
     tbb::parallel_for(0, num_views, [&](int v) {
       const std::string& name = view_names[v];
-      const RenderedView& rv = views[v];
-      WritePng(dir / layout::Image(name, f), rv.color, options.png_compression);
+      RenderedView& rv = views[v];
       WriteInstanceMask(dir / layout::GtInstances(name, f), dir / layout::GtInstancesInfo(name, f),
                         GtInstanceMask(rv.instance, frame));
       WritePfm(dir / layout::GtDepth(name, f), rv.depth);
       WriteJsonFileAtomic(dir / layout::GtVisibility(name, f), VisibilityJson(rv));
+      cv::Mat forward_flow;
       if (f + 1 < options.num_frames) {
         Timer flow_timer;
         const FlowField flow = ForwardFlow(rv, frame, next, cameras[f][v], cameras[f + 1][v],
@@ -263,27 +342,34 @@ SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& 
         }
         WriteFlo(dir / layout::GtFlow(name, f), flow.flow);
         WritePng(dir / layout::GtFlowValid(name, f), flow.valid, options.png_compression);
+        forward_flow = flow.flow;
       }
+      ApplyFloorShadows(cameras[f][v], rv.depth, rv.instance, shadows, options.effects, &rv.color);
+      ApplyMotionBlur(forward_flow, rv.instance, options.effects, &rv.color);
+      WritePng(dir / layout::Image(name, f), rv.color, options.png_compression);
 
       // Initial inputs, as a detector would give them.
       const DegradedMask degraded =
-          DegradeInstanceMask(rv.instance, rv.part, options.masks, DegradeSeed(options.seed, v, f));
+          DegradeInstanceMask(rv.instance, rv.part, options.masks, DegradeSeed(options.seed, v, f),
+                              &detector_memory[v]);
       if (!degraded.dropped)
         WriteInstanceMask(dir / layout::Mask(name, f), dir / layout::MaskInfo(name, f),
                           degraded.mask);
-      const auto detections =
-          DegradeKeypoints(frame.coco_keypoints, cameras[f][v], rv.instance, options.keypoints,
-                           DegradeSeed(options.seed + 0x9e3779b9ull, v, f));
-      std::vector<Pose2d> poses;
       int swapped = 0;
-      for (const DetectedPose2d& d : detections) {
-        Pose2d pose;
-        pose.keypoints = d.keypoints;
-        pose.score = d.score;
-        poses.push_back(pose);
-        swapped += d.swapped ? 1 : 0;
+      if (keypoints) {
+        const auto detections =
+            DegradeKeypoints(frame.coco_keypoints, cameras[f][v], rv.instance, options.keypoints,
+                             DegradeSeed(options.seed + 0x9e3779b9ull, v, f));
+        std::vector<Pose2d> poses;
+        for (const DetectedPose2d& d : detections) {
+          Pose2d pose;
+          pose.keypoints = d.keypoints;
+          pose.score = d.score;
+          poses.push_back(pose);
+          swapped += d.swapped ? 1 : 0;
+        }
+        WritePoses2d(dir / layout::Poses2d(name, f), poses);
       }
-      WritePoses2d(dir / layout::Poses2d(name, f), poses);
 
       std::lock_guard<std::mutex> lock(mutex);
       summary.dropped_masks += degraded.dropped ? 1 : 0;
@@ -299,7 +385,7 @@ SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& 
                                {"missed_gt_ids", degraded.missed_gt_ids}});
     });
 
-    WritePoses3d(dir / layout::GtJoints3d(f), GtPoses(frame));
+    if (keypoints) WritePoses3d(dir / layout::GtJoints3d(f), GtPoses(frame));
     if (options.write_meshes) {
       for (const SceneObject& person : frame.people)
         WriteMeshPly(dir / layout::GtMesh(person.instance_id, f), person);

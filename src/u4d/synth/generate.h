@@ -12,8 +12,10 @@
 #include <string>
 #include <vector>
 
+#include "u4d/synth/captured.h"
 #include "u4d/synth/degrade.h"
 #include "u4d/synth/environment.h"
+#include "u4d/synth/image_effects.h"
 #include "u4d/synth/render.h"
 #include "u4d/synth/rig.h"
 #include "u4d/util/file.h"
@@ -21,7 +23,7 @@
 namespace u4d::synth {
 
 struct SynthOptions {
-  std::string preset = "handshake";  // handshake | meetup | moving-cameras
+  std::string preset = "handshake";  // one of SynthPresetNames()
   std::string name;                  // capture name; empty = the preset's name
   int num_frames = 50;               // frames to write
   // The people's script lasts at least script_seconds (the handshake needs
@@ -42,14 +44,29 @@ struct SynthOptions {
   FlowOptions flow;                // visibility tolerance of the GT flow
   MaskDegradeOptions masks = MaskDegradeOptions::Default();              // initial masks
   KeypointDegradeOptions keypoints = KeypointDegradeOptions::Default();  // 2D keypoints
+  ImageEffectsOptions effects;  // motion blur and floor shadows (off by default)
+
+  // Captured performers (captured.h), people after the procedural ones (their
+  // instance ids follow). A relative source is read from captured_meshes.
+  std::vector<CapturedPerformerOptions> captured;
+  fs::path captured_meshes;  // the shared captured_meshes folder (realistic presets)
+  // With two or more captured performers, the second is moved along the line
+  // from the first's position to its own so that their closest approach over
+  // the capture is this many metres: they touch. < 0 keeps the positions.
+  double captured_touch_gap = -1;
 
   void Check() const;  // throws u4d::Error on bad values or an unknown preset
 };
 
 // The defaults of a named preset:
-//   handshake       2 people approach, shake hands, step apart; 8 static views, indoor
-//   meetup          3+ people meet (one driven by real CMU mocap); 8 static views, outdoor
-//   moving-cameras  the handshake seen by 8 cameras that orbit and bob
+//   handshake         2 people approach, shake hands, step apart; 8 static views, indoor
+//   meetup            3+ people meet (one driven by real CMU mocap); 8 static views, outdoor
+//   moving-cameras    the handshake seen by 8 cameras that orbit and bob
+//   realistic         2 captured performers (a dance, a jump) who touch; a real
+//                     detector's failures (MaskDegradeOptions::Realistic), sensor
+//                     noise, exposure differing between cameras, motion blur,
+//                     floor shadows; 8 static views, indoor (needs captured_meshes)
+//   realistic-moving  the same seen by 8 cameras that orbit and bob
 // Throws u4d::Error for an unknown name, listing the known ones.
 SynthOptions SynthPreset(const std::string& preset);
 const std::vector<std::string>& SynthPresetNames();

@@ -70,10 +70,14 @@ struct SceneObject {
 struct SceneFrame {
   double time = 0;                  // seconds from the start
   std::vector<SceneObject> people;  // instance ids 1..N, same order every frame
-  std::vector<Joints3d> joints;     // one per person, same order as `people`
+  // One per person with a skeleton, in `people` order: the procedural bodies
+  // come first and have one; captured performers (captured.h) follow and
+  // have none, so joints.size() <= people.size(). Likewise coco_keypoints.
+  std::vector<Joints3d> joints;
   // COCO-17 keypoints in 3D (nose, eyes, ears, shoulders, elbows, wrists,
   // hips, knees, ankles, in COCO order), one per person: what a 2D keypoint
-  // detector would report, used to synthesise 2D detections.
+  // detector would report, used to synthesise 2D detections. Parallel to
+  // `joints`.
   std::vector<std::array<Eigen::Vector3d, 17>> coco_keypoints;
   std::vector<SceneObject> statics;  // floor, walls, props: do not move
 };
