@@ -1,6 +1,8 @@
 #include "u4d/eval/evaluate.h"
 
 #include <cmath>
+#include <map>
+#include <optional>
 #include <set>
 
 #include <fmt/format.h>
@@ -67,9 +69,43 @@ InstanceMask ReadGtInstances(const fs::path& root, const std::string& view, int 
                           root / layout::GtInstancesInfo(view, frame));
 }
 
+// gt/contacts.json, when the capture has it: per frame, the pairs (a < b) of
+// GT ids whose surfaces are in contact (docs/formats.md).
+std::optional<std::map<int, std::set<std::pair<int, int>>>> ReadGtContacts(const fs::path& root) {
+  const fs::path path = root / layout::GtContacts();
+  if (!fs::exists(path)) return std::nullopt;
+  const nlohmann::json j = ReadJsonFile(path);
+  U4D_CHECK(j.is_object() && j.contains("frames") && j["frames"].is_array(),
+            "{}: expected an object with a 'frames' array", path.string());
+  std::map<int, std::set<std::pair<int, int>>> contacts;
+  for (const nlohmann::json& frame : j["frames"]) {
+    U4D_CHECK(frame.is_object() && frame.contains("frame") && frame["frame"].is_number_integer() &&
+                  frame.contains("pairs") && frame["pairs"].is_array(),
+              "{}: each frame needs an integer 'frame' and a 'pairs' array", path.string());
+    auto& pairs = contacts[frame["frame"].get<int>()];
+    for (const nlohmann::json& p : frame["pairs"]) {
+      U4D_CHECK(
+          p.is_array() && p.size() == 2 && p[0].is_number_integer() && p[1].is_number_integer(),
+          "{}: a pair must be two integer ids", path.string());
+      const int a = p[0].get<int>(), b = p[1].get<int>();
+      pairs.emplace(std::min(a, b), std::max(a, b));
+    }
+  }
+  return contacts;
+}
+
+// Whether a pair of `r.touching_pairs` is in `contacts` at that frame.
+bool TouchingInContact(const InstanceSegResult& r, const std::set<std::pair<int, int>>& contacts) {
+  for (const auto& pair : r.touching_pairs)
+    if (contacts.count(pair)) return true;
+  return false;
+}
+
 // Instance IoU per view-frame, and the identity figures from the same matches.
 void EvaluateInstanceMasks(Context& c) {
   InstanceSegAccumulator acc;
+  const auto contacts = ReadGtContacts(c.root);
+  acc.touch_in_contact = contacts.has_value();
   IdentityAccumulator identity(c.options.instances.match_iou);
   for (int vi = 0; vi < c.capture.NumViews(); ++vi) {
     const CaptureView& v = c.capture.views[vi];
@@ -83,9 +119,13 @@ void EvaluateInstanceMasks(Context& c) {
         pred = ReadInstanceMask(png, Sidecar(png));
       else
         ++c.report.missing_predictions["instances"];
-      const InstanceSegResult r = EvaluateInstances(
+      InstanceSegResult r = EvaluateInstances(
           pred, gt, c.options.instances,
           fmt::format("{} vs {}", png.string(), layout::GtInstances(v.name, f).string()));
+      if (contacts) {
+        const auto at = contacts->find(f);
+        r.touching = at != contacts->end() && TouchingInContact(r, at->second);
+      }
       acc.Add(r);
       identity.Add(vi, f, r.matches);
     }
@@ -414,6 +454,11 @@ std::string EvalReport::FormatTable() const {
     s += fmt::format("  {:<34} {:>10} / {} / {} / {}\n", "missed / false pos. / merged / split",
                      instances->missed, instances->false_positives, instances->merged,
                      instances->split);
+    if (instances->touching_images > 0)
+      s += fmt::format("  {:<34} {:>10.4f} ({} of {} view-frames; {})\n",
+                       "merge rate where people touch", instances->MergeRateWhereTouching(),
+                       instances->merged_touching_images, instances->touching_images,
+                       instances->touch_in_contact ? "in 3D contact" : "masks adjacent");
   }
   if (identity) {
     const IdentitySummary id = identity->Summarize();

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <set>
 
 #include "u4d/eval/hungarian.h"
 #include "u4d/util/check.h"
@@ -24,11 +25,32 @@ std::string LabelOf(const InstanceMask& mask, int id, const char* which,
   return info->label;
 }
 
+// Pairs (a < b) of different non-zero ids of `ids` within `distance` pixels.
+std::vector<std::pair<int, int>> TouchingPairs(const cv::Mat& ids, int distance) {
+  std::set<std::pair<int, int>> pairs;
+  for (int y = 0; y < ids.rows; ++y) {
+    const uint16_t* row = ids.ptr<uint16_t>(y);
+    for (int x = 0; x < ids.cols; ++x) {
+      if (row[x] == 0) continue;
+      for (int dy = 0; dy <= distance && y + dy < ids.rows; ++dy) {
+        const uint16_t* other = ids.ptr<uint16_t>(y + dy);
+        for (int dx = -distance; dx <= distance; ++dx) {
+          if (x + dx < 0 || x + dx >= ids.cols || (dy == 0 && dx <= 0)) continue;
+          const int a = row[x], b = other[x + dx];
+          if (b != 0 && b != a) pairs.emplace(std::min(a, b), std::max(a, b));
+        }
+      }
+    }
+  }
+  return {pairs.begin(), pairs.end()};
+}
+
 }  // namespace
 
 void InstanceSegOptions::Check() const {
   U4D_CHECK(match_iou > 0 && match_iou <= 1, "InstanceSegOptions: match_iou must be in (0, 1]");
   U4D_CHECK(coverage > 0 && coverage < 1, "InstanceSegOptions: coverage must be in (0, 1)");
+  U4D_CHECK(touch_distance_px >= 0, "InstanceSegOptions: touch_distance_px must be >= 0");
 }
 
 double Overlap::IoU() const {
@@ -144,6 +166,9 @@ InstanceSegResult EvaluateInstances(const InstanceMask& pred, const InstanceMask
     if (covering >= 2) ++r.split;
   }
 
+  r.touching_pairs = TouchingPairs(gt.ids, options.touch_distance_px);
+  r.touching = !r.touching_pairs.empty();
+
   // Class and foreground overlap: |union of class c in GT n union in pred|.
   for (int i = 0; i <= ng; ++i)
     for (int j = 0; j <= np; ++j) {
@@ -166,6 +191,8 @@ InstanceSegResult EvaluateInstances(const InstanceMask& pred, const InstanceMask
 
 void InstanceSegAccumulator::Add(const InstanceSegResult& r) {
   ++num_images;
+  touching_images += r.touching ? 1 : 0;
+  merged_touching_images += r.touching && r.merged > 0 ? 1 : 0;
   num_gt += r.num_gt;
   num_pred += r.num_pred;
   missed += r.missed;
@@ -179,6 +206,10 @@ void InstanceSegAccumulator::Add(const InstanceSegResult& r) {
 
 double InstanceSegAccumulator::MeanInstanceIoU() const {
   return num_gt > 0 ? sum_instance_iou / num_gt : kNaN;
+}
+
+double InstanceSegAccumulator::MergeRateWhereTouching() const {
+  return touching_images > 0 ? static_cast<double>(merged_touching_images) / touching_images : kNaN;
 }
 
 double InstanceSegAccumulator::MeanClassIoU() const {
@@ -207,7 +238,11 @@ nlohmann::json InstanceSegAccumulator::ToJson() const {
           {"missed", missed},
           {"false_positives", false_positives},
           {"merged", merged},
-          {"split", split}};
+          {"split", split},
+          {"touching_images", touching_images},
+          {"merged_touching_images", merged_touching_images},
+          {"merge_rate_where_touching", num(MergeRateWhereTouching())},
+          {"touch_rule", touch_in_contact ? "3d_contact" : "image_adjacency"}};
 }
 
 }  // namespace u4d::eval

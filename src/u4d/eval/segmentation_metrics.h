@@ -13,7 +13,10 @@
 //    (predicted with no match with IoU >= match_iou), merges (a predicted
 //    instance covering > coverage of each of >= 2 GT instances, coverage =
 //    |P n G| / |G|) and splits (a GT instance covering > coverage of each of
-//    >= 2 predicted instances, coverage = |P n G| / |P|).
+//    >= 2 predicted instances, coverage = |P n G| / |P|);
+//  - the pairs of GT instances that touch in the image (come within
+//    touch_distance_px); an image where people touch and one prediction
+//    covers two of them counts towards the merge rate where people touch.
 // Averages over many images (InstanceSegAccumulator) are instance-weighted for
 // the mean instance IoU and pixel-pooled (sum of intersections over sum of
 // unions) for the class IoU; docs/metrics.md gives the formulas.
@@ -40,6 +43,9 @@ struct InstanceSegOptions {
   double coverage = 0.5;
   // Match only instances of the same class.
   bool match_within_class = true;
+  // Two GT instances touch when a pixel of one lies within this many pixels
+  // (Chebyshev distance) of a pixel of the other.
+  int touch_distance_px = 3;
   void Check() const;
 };
 
@@ -70,6 +76,10 @@ struct InstanceSegResult {
   double mean_instance_iou = 0;        // NaN when no GT instance is visible
   int num_gt = 0, num_pred = 0;
   int missed = 0, false_positives = 0, merged = 0, split = 0;
+  std::vector<std::pair<int, int>> touching_pairs;  // GT ids (a < b) that touch in the image
+  // Whether people touch here: any touching pair, unless the caller restricts
+  // it to the pairs in 3D contact (EvaluateCapture with gt/contacts.json).
+  bool touching = false;
   std::map<std::string, Overlap> per_class;  // classes present in GT or prediction
   Overlap foreground;                        // any instance vs any instance
 };
@@ -89,6 +99,10 @@ struct InstanceSegAccumulator {
   int num_images = 0;
   int num_gt = 0, num_pred = 0;
   int missed = 0, false_positives = 0, merged = 0, split = 0;
+  // Images where GT instances touch, and those of them with a merge;
+  // touch_in_contact: touching was restricted to pairs in 3D contact.
+  int touching_images = 0, merged_touching_images = 0;
+  bool touch_in_contact = false;
   double sum_instance_iou = 0;
   std::map<std::string, Overlap> per_class;
   Overlap foreground;
@@ -97,6 +111,8 @@ struct InstanceSegAccumulator {
   double MeanInstanceIoU() const;  // NaN when no GT instance was seen
   // Mean over classes of the class IoU (classes with a non-empty union).
   double MeanClassIoU() const;
+  // merged_touching_images / touching_images; NaN when nobody touched.
+  double MergeRateWhereTouching() const;
   nlohmann::json ToJson() const;
 };
 

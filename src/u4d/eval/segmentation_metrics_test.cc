@@ -52,6 +52,29 @@ TEST(Segmentation, MatchingIsOptimalWhereGreedyFails) {
   EXPECT_NEAR(r.mean_instance_iou, (0.4 + 1.0 / 6.0) / 2, 1e-12);
 }
 
+TEST(Segmentation, TouchingPeopleAndTheMergeRateWhereTheyTouch) {
+  // A = [0,10) x [0,5); B starts 3 px (touching at distance 3) or 5 px (not)
+  // to the right of A's last column; diagonal neighbours count (Chebyshev).
+  const std::vector<InstanceInfo> infos = {{1, "person", 1}, {2, "person", 1}};
+  const InstanceMask near = Labels(30, 10, {{1, 0, 0, 10, 5}, {2, 12, 5, 20, 10}}, infos);
+  const InstanceMask far = Labels(30, 10, {{1, 0, 0, 10, 5}, {2, 14, 0, 20, 5}}, infos);
+  EXPECT_TRUE(EvaluateInstances(near, near, {}, "test").touching);
+  EXPECT_FALSE(EvaluateInstances(far, far, {}, "test").touching);
+  InstanceSegOptions tight;
+  tight.touch_distance_px = 2;
+  EXPECT_FALSE(EvaluateInstances(near, near, tight, "test").touching);
+
+  // One prediction covering both touching people: a merge where they touch.
+  const InstanceMask merged = Labels(30, 10, {{9, 0, 0, 20, 10}}, {{9, "person", 1}});
+  InstanceSegAccumulator acc;
+  acc.Add(EvaluateInstances(merged, near, {}, "test"));  // touching, merged
+  acc.Add(EvaluateInstances(near, near, {}, "test"));    // touching, kept apart
+  acc.Add(EvaluateInstances(merged, far, {}, "test"));   // merged but not touching
+  EXPECT_EQ(acc.touching_images, 2);
+  EXPECT_EQ(acc.merged_touching_images, 1);
+  EXPECT_DOUBLE_EQ(acc.MergeRateWhereTouching(), 0.5);
+}
+
 TEST(Segmentation, MergeCounting) {
   // P = [2,18) covers 8/10 of A = [0,10) and of B = [10,20): a merge.
   const InstanceMask gt =

@@ -39,6 +39,8 @@ fs::path GtVisibility(const std::string& view, int frame) {
   return fs::path("gt/visibility") / view / (FrameName(frame) + ".json");
 }
 fs::path GtJoints3d(int frame) { return fs::path("gt/joints3d") / (FrameName(frame) + ".json"); }
+fs::path GtContacts() { return "gt/contacts.json"; }
+
 fs::path GtMesh(int object_id, int frame) {
   return fs::path("gt/meshes") / fmt::format("{:02d}", object_id) / (FrameName(frame) + ".ply");
 }

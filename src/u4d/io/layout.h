@@ -27,6 +27,7 @@ fs::path GtFlowValid(const std::string& view, int frame);      // gt/flow_valid/
 fs::path GtVisibility(const std::string& view, int frame);     // gt/visibility/<view>/<frame>.json
 fs::path GtJoints3d(int frame);                                // gt/joints3d/<frame>.json
 fs::path GtMesh(int object_id, int frame);                     // gt/meshes/<id>/<frame>.ply
+fs::path GtContacts();                                         // gt/contacts.json
 
 // The 4D scene written by `u4d run` (relative to its output root). Per-view
 // maps have the camera's size. Object ids are the instance ids of the

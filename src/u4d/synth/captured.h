@@ -61,7 +61,8 @@ struct CapturedPerformer {
 };
 
 // Reads options.source (the frames that capture frames 0..num_frames-1 need)
-// and places it. A first_frame past the source's end is an error. Throws u4d::Error naming the file on unreadable input.
+// and places it. A first_frame past the source's end is an error. Throws u4d::Error naming the file
+// on unreadable input.
 CapturedPerformer LoadCapturedPerformer(const CapturedPerformerOptions& options, int num_frames);
 
 // Source frame shown at capture frame `frame` (ping-pong over `length`).

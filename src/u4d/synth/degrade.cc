@@ -218,6 +218,9 @@ void MaskDegradeOptions::Check() const {
   CheckProb(lower_leg_drop_prob, "MaskDegradeOptions.lower_leg_drop_prob");
   CheckProb(merge_prob, "MaskDegradeOptions.merge_prob");
   CheckNonNeg(merge_distance_px, "MaskDegradeOptions.merge_distance_px");
+  U4D_CHECK(std::isfinite(apart_merge_prob) && apart_merge_prob <= 1,
+            "MaskDegradeOptions.apart_merge_prob: expected < 0 (off) or a probability, got {}",
+            apart_merge_prob);
   U4D_CHECK(std::isfinite(merge_persistence) && merge_persistence <= 1,
             "MaskDegradeOptions.merge_persistence: expected < 0 (off) or a probability, got {}",
             merge_persistence);
@@ -287,14 +290,15 @@ MaskDegradeOptions MaskDegradeOptions::Realistic() {
   o.frame_drop_prob = 0;
   o.instance_miss_prob = 0.03;
   o.miss_persistence = 0.6;
-  o.boundary_amplitude_px = 3.0;
+  o.boundary_amplitude_px = 2.5;
   o.boundary_correlation_px = 32.0;
   o.blur_sigma_px = 2.0;
   o.lower_arm_drop_prob = 0;
   o.lower_leg_drop_prob = 0.1;
   o.thin_part_drop_prob = 0.35;
   o.thin_part_width_px = 13.0;
-  o.merge_prob = 0.6;
+  o.merge_prob = 0.7;
+  o.apart_merge_prob = 0.05;
   o.merge_persistence = 0.85;
   o.merge_distance_px = 4.0;
   o.false_positive_rate = 0.05;
@@ -325,7 +329,8 @@ MaskDegradeOptions MaskDegradeOptions::Harsh() {
 
 DegradedMask DegradeInstanceMask(const cv::Mat& gt_ids, const cv::Mat& parts,
                                  const MaskDegradeOptions& options, uint64_t seed,
-                                 DetectorMemory* memory) {
+                                 DetectorMemory* memory,
+                                 const std::vector<std::pair<int, int>>* contacts) {
   options.Check();
   U4D_CHECK(!gt_ids.empty(), "DegradeInstanceMask: gt_ids is empty");
   U4D_CHECK(gt_ids.type() == CV_16UC1, "DegradeInstanceMask: gt_ids must be CV_16UC1, got type {}",
@@ -403,10 +408,13 @@ DegradedMask DegradeInstanceMask(const cv::Mat& gt_ids, const cv::Mat& parts,
       Rng pair_rng(Mix(call_seed, kPairStream + static_cast<uint64_t>(gt_list[a]) * 65536 +
                                       static_cast<uint64_t>(gt_list[b])));
       const std::pair<int, int> pair(gt_list[a], gt_list[b]);
-      double prob = options.merge_prob;
+      double rate = options.merge_prob;
+      if (contacts != nullptr && options.apart_merge_prob >= 0 &&
+          std::find(contacts->begin(), contacts->end(), pair) == contacts->end())
+        rate = options.apart_merge_prob;
+      double prob = rate;
       if (merge_memory && memory->touching.count(pair))
-        prob = MarkovProbability(options.merge_prob, options.merge_persistence,
-                                 memory->merged.count(pair) > 0);
+        prob = MarkovProbability(rate, options.merge_persistence, memory->merged.count(pair) > 0);
       now.touching.insert(pair);
       if (pair_rng.Bernoulli(prob)) {
         groups.Unite(a, b);

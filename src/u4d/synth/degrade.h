@@ -75,6 +75,10 @@ struct MaskDegradeOptions {
   // The gap between them is bridged (morphological closing, background only).
   double merge_prob = 0.15;
   double merge_distance_px = 3.0;
+  // When the caller says which people are in contact in 3D, pairs that are
+  // close in the image but not in contact (one passes behind the other) merge
+  // with this probability instead. < 0: merge_prob for every close pair.
+  double apart_merge_prob = -1;
   // Temporal correlation of merges, with a DetectorMemory: a pair that was
   // touching at the previous frame stays merged with this probability, and
   // becomes merged with the probability that keeps the long-run merge rate at
@@ -164,11 +168,14 @@ struct DegradedMask {
 //   for "no part map" (then no limb is ever dropped).
 // seed: per view-frame (see DegradeSeed), mixed with options.seed.
 // memory: the view's DetectorMemory (updated), or null for independent frames.
+// contacts: pairs (a < b) of GT ids in contact in 3D (synth/contact.h), or
+// null when unknown (see apart_merge_prob).
 // Throws u4d::Error on an empty or wrongly typed image, mismatched sizes, a
 // part value outside BodyPart, or invalid options.
 DegradedMask DegradeInstanceMask(const cv::Mat& gt_ids, const cv::Mat& parts,
                                  const MaskDegradeOptions& options, uint64_t seed,
-                                 DetectorMemory* memory = nullptr);
+                                 DetectorMemory* memory = nullptr,
+                                 const std::vector<std::pair<int, int>>* contacts = nullptr);
 
 // ------------------------------------------------------------ keypoints --
 

@@ -302,6 +302,74 @@ TEST(DegradeMaskTest, MergesTouchingPeopleAtConfiguredRateOnly) {
   ExpectBinomial(merged, trials, 0.3, "merges of the touching pair");
 }
 
+TEST(DegradeMaskTest, MergesPersistInTimeAtTheLongRunRate) {
+  // Persons 1 and 2 touch in every frame. With a memory, a merge stays with
+  // probability merge_persistence, and the long-run rate stays merge_prob.
+  const GtImages gt = ThreePeople();
+  MaskDegradeOptions o = MaskDegradeOptions::None();
+  o.merge_prob = 0.6;
+  o.merge_persistence = 0.9;
+  const int sequences = 150, frames = 12;
+  int merged = 0, kept = 0, was_merged = 0;
+  for (int s = 0; s < sequences; ++s) {
+    DetectorMemory memory;
+    bool before = false;
+    for (int f = 0; f < frames; ++f) {
+      const bool now = !DegradeInstanceMask(gt.ids, gt.parts, o, DegradeSeed(s, 0, f), &memory)
+                            .merged_gt_ids.empty();
+      merged += now;
+      if (f > 0 && before) {
+        ++was_merged;
+        kept += now;
+      }
+      before = now;
+    }
+  }
+  ExpectBinomial(merged, sequences * frames, 0.6, "merged view-frames");
+  ExpectBinomial(kept, was_merged, 0.9, "merges kept at the next frame");
+}
+
+TEST(DegradeMaskTest, ApartPairsMergeAtTheirOwnRateWhenContactsAreKnown) {
+  // 1 and 2 are close in the image; told that they are not in contact in 3D,
+  // they merge at apart_merge_prob; told that they are, at merge_prob.
+  const GtImages gt = ThreePeople();
+  MaskDegradeOptions o = MaskDegradeOptions::None();
+  o.merge_prob = 0.8;
+  o.apart_merge_prob = 0.1;
+  const std::vector<std::pair<int, int>> none, touching = {{1, 2}};
+  int apart = 0, in_contact = 0;
+  const int trials = 300;
+  for (int seed = 0; seed < trials; ++seed) {
+    apart += !DegradeInstanceMask(gt.ids, gt.parts, o, seed, nullptr, &none).merged_gt_ids.empty();
+    in_contact +=
+        !DegradeInstanceMask(gt.ids, gt.parts, o, seed, nullptr, &touching).merged_gt_ids.empty();
+  }
+  ExpectBinomial(apart, trials, 0.1, "merges of a pair not in contact");
+  ExpectBinomial(in_contact, trials, 0.8, "merges of a pair in contact");
+}
+
+TEST(DegradeMaskTest, ThinPartsAreDroppedFromTheMaskAlone) {
+  // A 60x100 block with a 6 px wide, 50 px long arm; no part map.
+  GtImages gt = Blank(200, 160);
+  gt.ids(cv::Rect(40, 30, 60, 100)).setTo(4);
+  gt.ids(cv::Rect(100, 50, 50, 6)).setTo(4);
+  const cv::Mat arm = cv::Mat::zeros(gt.ids.size(), CV_8U);
+  arm(cv::Rect(100, 50, 50, 6)).setTo(255);
+  MaskDegradeOptions o = MaskDegradeOptions::None();
+  o.thin_part_width_px = 13;
+  o.thin_part_drop_prob = 1.0;
+  const DegradedMask all = DegradeInstanceMask(gt.ids, cv::Mat(), o, 7);
+  const cv::Mat kept = all.mask.ids != 0;
+  EXPECT_LT(cv::countNonZero(kept & arm), 6 * 3);  // at most the arm's root stays
+  EXPECT_EQ(cv::countNonZero(gt.ids(cv::Rect(40, 30, 60, 100)) != 0) -
+                cv::countNonZero(kept(cv::Rect(40, 30, 60, 100))),
+            0);  // the block is whole
+  EXPECT_EQ(all.dropped_limbs, 1);
+  o.thin_part_drop_prob = 0.0;
+  const DegradedMask none = DegradeInstanceMask(gt.ids, cv::Mat(), o, 7);
+  EXPECT_EQ(cv::countNonZero((none.mask.ids != 0) != (gt.ids != 0)), 0);
+}
+
 TEST(DegradeMaskTest, DroppedFramesAndFalsePositivesAtConfiguredRates) {
   GtImages gt = Blank(160, 120);
   cv::circle(gt.ids, cv::Point(40, 60), 20, cv::Scalar(5), cv::FILLED);

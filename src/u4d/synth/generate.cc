@@ -1,13 +1,16 @@
 #include "u4d/synth/generate.h"
 
 #include <algorithm>
+#include <cmath>
 #include <mutex>
+#include <random>
 
 #include <unistd.h>
 
 #include <open3d/geometry/TriangleMesh.h>
 #include <open3d/io/TriangleMeshIO.h>
 #include <tbb/parallel_for.h>
+#include <Eigen/Geometry>
 #include <opencv2/imgcodecs.hpp>
 
 #include "u4d/io/capture.h"
@@ -15,6 +18,7 @@
 #include "u4d/io/instance_mask.h"
 #include "u4d/io/layout.h"
 #include "u4d/io/poses.h"
+#include "u4d/synth/contact.h"
 #include "u4d/synth/people.h"
 #include "u4d/synth/texture.h"
 #include "u4d/util/check.h"
@@ -39,14 +43,14 @@ void SetRealistic(SynthOptions* o) {
   dance.stature = 1.72;
   dance.position = {-0.6, 0.0};
   dance.yaw = 0.4;
-  dance.appearance_seed = 11;
+  dance.appearance_seed = 3;
   CapturedPerformerOptions jump;
   jump.source = "pjump/pjump_positions.pc2";
   jump.source_has_head = false;
   jump.stature = 1.80;
   jump.position = {0.6, 0.1};
   jump.yaw = -2.2;
-  jump.appearance_seed = 23;
+  jump.appearance_seed = 4;
   o->captured = {dance, jump};
   o->captured_touch_gap = 0.02;
 }
@@ -135,13 +139,23 @@ PeopleScript MakeScript(const SynthOptions& o, int script_frames) {
 
 // The captured performers of the capture, loaded and placed.
 std::vector<CapturedPerformer> LoadCaptured(const SynthOptions& o) {
+  // The seed varies the performance as it varies the procedural people: each
+  // performer starts at another source frame, and the group turns about the
+  // origin.
+  std::mt19937_64 rng(o.seed * 0x9E3779B97F4A7C15ULL + 0x7f4a7c15ULL);
+  const double turn = std::uniform_real_distribution<double>(0, 2 * M_PI)(rng);
+  const Eigen::Rotation2Dd rotate(-turn);  // about +y, as seen in the (x, z) plane
+  std::vector<CapturedPerformerOptions> specs = o.captured;
   std::vector<CapturedPerformer> performers;
-  for (CapturedPerformerOptions c : o.captured) {
+  for (CapturedPerformerOptions& c : specs) {
     if (c.source.is_relative()) c.source = o.captured_meshes / c.source;
+    c.first_frame += static_cast<int>(rng() % 100);
+    c.position = rotate * c.position;
+    c.yaw += turn;
     performers.push_back(LoadCapturedPerformer(c, o.num_frames));
   }
   if (performers.size() >= 2 && o.captured_touch_gap >= 0) {
-    const Eigen::Vector2d line = o.captured[1].position - o.captured[0].position;
+    const Eigen::Vector2d line = specs[1].position - specs[0].position;
     const Eigen::Vector2d direction =
         line.norm() > 1e-9 ? Eigen::Vector2d(line.normalized()) : Eigen::Vector2d(1, 0);
     PlaceAtClosestApproach(performers[0], &performers[1], direction, o.captured_touch_gap,
@@ -296,6 +310,7 @@ SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& 
   const bool keypoints = !script.people.empty();
 
   nlohmann::json degradation = nlohmann::json::array();
+  nlohmann::json contacts = nlohmann::json::array();
   std::mutex mutex;
   Progress bar("synth", options.num_frames, progress);
 
@@ -324,6 +339,8 @@ SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& 
 
     const FloorShadowMap shadows =
         MakeFloorShadowMap(frame, options.render.light_direction, options.effects);
+    const std::vector<std::pair<int, int>> in_contact = PeopleInContact(frame);
+    contacts.push_back({{"frame", f}, {"pairs", in_contact}});
     tbb::parallel_for(0, num_views, [&](int v) {
       const std::string& name = view_names[v];
       RenderedView& rv = views[v];
@@ -351,7 +368,7 @@ SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& 
       // Initial inputs, as a detector would give them.
       const DegradedMask degraded =
           DegradeInstanceMask(rv.instance, rv.part, options.masks, DegradeSeed(options.seed, v, f),
-                              &detector_memory[v]);
+                              &detector_memory[v], &in_contact);
       if (!degraded.dropped)
         WriteInstanceMask(dir / layout::Mask(name, f), dir / layout::MaskInfo(name, f),
                           degraded.mask);
@@ -403,6 +420,10 @@ SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& 
   WriteJsonFileAtomic(
       dir / "gt/degradation.json",
       {{"note", "what the initial masks got wrong, for evaluation only"}, {"events", degradation}});
+  WriteJsonFileAtomic(dir / layout::GtContacts(),
+                      {{"note", "pairs of GT ids whose surfaces come within distance metres"},
+                       {"distance", kContactDistance},
+                       {"frames", contacts}});
   // The manifest last: a capture whose capture.json exists is complete.
   WriteCapture(capture, dir);
   summary.seconds = total_timer.Seconds();

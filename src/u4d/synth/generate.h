@@ -52,7 +52,8 @@ struct SynthOptions {
   fs::path captured_meshes;  // the shared captured_meshes folder (realistic presets)
   // With two or more captured performers, the second is moved along the line
   // from the first's position to its own so that their closest approach over
-  // the capture is this many metres: they touch. < 0 keeps the positions.
+  // the capture is this many metres: they touch at least once. < 0 keeps the
+  // positions.
   double captured_touch_gap = -1;
 
   void Check() const;  // throws u4d::Error on bad values or an unknown preset
