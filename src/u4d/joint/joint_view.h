@@ -9,18 +9,20 @@
 //   E_a   label_costs.h AppearanceCosts (10-component colour GMMs, ψ_T masks + sparse markers)
 //   E_sem label_costs.h SemanticCosts (soft initial instance masks)
 //   E_f   flow_cost.h (temporal and cross-view brightness constancy; sparse-track windows)
-//   E_s   [l_p = l_q] (λ_s^s min(|d_p − d_q|, τ_d) / τ_d) over 8-neighbours, depth in label
-//         steps (inverse depth), U against a depth costs 1; plus the temporal part
-//         λ_s^t min(|d_p − d^{t−1}_p|, τ_d) / τ_d against the previous frame's depth
-//         carried to t by its flow (when given)
-//   E_c   [l_p ≠ l_q] (λ_ca c_pq + λ_cl s_pq) / (λ_ca + λ_cl): colour and semantic contrast
-//   E_r   w_pq min(||m_p − m_q||², τ_m²) / τ_m² over 8-neighbours (the paper's squared
-//         difference, truncated), w_pq = (1 + λ_r^L e_r^L + λ_r^A e_r^A) c_pq with e_r^X(p) =
-//         mean − min of E_X over p's 3x3 window at the initial labels (fixed for the whole
-//         optimisation, so the energy is one function) and c_pq the colour-contrast weight
-//         of E_c (edge-aware, as Tao et al. 2012; motion_reg_edge_aware). At label boundaries
-//         (MotionRegBoundary): by default charged for every pair whatever the labels. The
-//         paper gates it by [l_p = l_q]; read literally, a label cut then removes the
+//   E_s   smoothness.h: [l_p = l_q] (λ_s^s min(|d_p − d_q|, τ_d) / τ_d) over 8-neighbours,
+//         depth in label steps (inverse depth), U against a depth costs 1; plus the temporal
+//         part λ_s^t min(|d_p − d^{t−1}_p|, τ_d) / τ_d against the previous frame's depth
+//         carried to t by its flow (JointViewInput::previous_depth; no caller sets it, so it
+//         is off in the pipeline: smoothness.h)
+//   E_c   contrast.h: [l_p ≠ l_q] (λ_ca c_pq + λ_cl s_pq) / (λ_ca + λ_cl): colour and semantic
+//         contrast
+//   E_r   motion_regularisation.h: w_pq min(||m_p − m_q||², τ_m²) / τ_m² over 8-neighbours
+//         (the paper's squared difference, truncated), w_pq = (1 + λ_r^L e_r^L + λ_r^A e_r^A) c_pq
+//         with e_r^X(p) = mean − min of E_X over p's 3x3 window at the initial labels (fixed for
+//         the whole optimisation, so the energy is one function) and c_pq the colour-contrast
+//         weight of E_c (edge-aware, as Tao et al. 2012; motion_reg_edge_aware). At label
+//         boundaries (MotionRegBoundary): by default charged for every pair whatever the labels.
+//         The paper gates it by [l_p = l_q]; read literally, a label cut then removes the
 //         motion-smoothness cost of a pair, so wherever the estimated motion varies inside a
 //         person a cut is the cheaper way out and the labels fragment (measured: IoU 0.86
 //         vs 0.95 without E_f, E_r). Motion smoothness must not reward cuts. Charged
@@ -30,7 +32,12 @@
 //         the estimated motion and measured worse (docs/joint.md, "E_r at label boundaries").
 //   E_p   pose_prior.h, (λ_2d e_2d + λ_3d e_3d) / (λ_2d + λ_3d)
 //
-// Flow fusion: after the blocks the motion is made continuous: fusion moves
+// The code: joint_energy.h holds the energy (every term's weights and data,
+// EnergyOf a labelling), energy_setup.h fills it from a JointViewInput,
+// block_schedule.h runs the blocks and flow_fusion.h the fusion stage;
+// SolveJointView is those steps in order.
+//
+// Flow fusion (flow_fusion.h): after the blocks the motion is made continuous: fusion moves
 // (mrf::FusionMove, Lempitsky et al. 2010) of the current field with dense
 // proposals (the discrete solution refined by parabola fits, OpenCV DIS at
 // its finest scale and at the medium preset, their mean, the current field
@@ -41,7 +48,7 @@
 // the same function (integer motions cost what their labels cost), and every
 // fusion is accepted only when it lowers it.
 //
-// Solver: the product label space L × D × M is optimised by alternating
+// Solver (block_schedule.h): the product label space L × D × M is optimised by alternating
 // α-expansion over each factor with the others fixed (mrf/expansion.h): a
 // label block (α ∈ L), a depth block (α ∈ D ∪ {U}) and a motion block
 // (α ∈ M; in the first `motion_rounds` rounds), `rounds` times; from the second round the label
@@ -65,20 +72,12 @@
 #include "u4d/joint/flow_cost.h"
 #include "u4d/joint/label_costs.h"
 #include "u4d/joint/motion_labels.h"
+#include "u4d/joint/motion_regularisation.h"  // MotionRegBoundary
 #include "u4d/joint/parameters.h"
 #include "u4d/joint/pose_prior.h"
 #include "u4d/mrf/max_flow.h"
 
 namespace u4d {
-
-// How E_r treats a neighbour pair with different instance labels (see the
-// header comment and docs/joint.md, "E_r at label boundaries").
-enum class MotionRegBoundary {
-  kFree,           // the paper read literally: [l_p = l_q] w ρ(Δm); a label cut removes E_r
-  kDiscontinuity,  // a label boundary is a motion discontinuity: it pays the truncated
-                   // maximum w (so a cut never lowers E_r); same label: w ρ(Δm)
-  kIgnoreLabels,   // (default) w ρ(Δm) for every pair: E_r does not depend on the labels
-};
 
 // The flow fusion stage (after the discrete blocks): the motion becomes
 // continuous and is improved by fusion moves (mrf::FusionMove) of the current
@@ -239,6 +238,7 @@ struct JointViewResult {
 // (CV_8U) frames t and t+1 of one size: DeepFlow, DIS fine, DIS medium (the
 // ones `options` enables, in that order), then, with exactly two of them, their
 // mean. Throws u4d::Error on images that are not 8-bit grey of one size.
+// Defined in flow_fusion.cc (the stage itself: flow_fusion.h).
 std::vector<cv::Mat> FlowFusionProposals(const cv::Mat& grey_t, const cv::Mat& grey_t1,
                                          const FlowFusionOptions& options);
 

@@ -6,41 +6,11 @@
 
 namespace u4d {
 
-double MotionRegTerm::Rho(const Eigen::Vector2f& mp, const Eigen::Vector2f& mq) const {
-  const double tau = truncation_px;
-  if (quadratic) return std::min((mp - mq).squaredNorm() / (tau * tau), 1.0);
-  return std::min(static_cast<double>((mp - mq).norm()), tau) / tau;
-}
-
 double MotionRegTerm::RhoDecreaseBound(const Eigen::Vector2f& from,
                                        const Eigen::Vector2f& to) const {
   const double distance = (from - to).norm() / truncation_px;
   return quadratic ? mrf::TruncatedQuadraticDecreaseBound(distance)
                    : mrf::TruncatedLinearDecreaseBound(distance);
-}
-
-double MotionRegTerm::PairWeight(float weight_p, float weight_q, float colour_contrast) const {
-  double wr = 0.5 * (weight_p + weight_q);
-  if (edge_aware) wr *= colour_contrast;
-  return wr;
-}
-
-double MotionRegTerm::Cost(double pair_weight, int label_p, int label_q, const Eigen::Vector2f& mp,
-                           const Eigen::Vector2f& mq) const {
-  switch (boundary) {
-    case MotionRegBoundary::kFree:
-      return label_p == label_q ? pair_weight * Rho(mp, mq) : 0.0;
-    case MotionRegBoundary::kDiscontinuity:
-      return pair_weight * (label_p == label_q ? Rho(mp, mq) : 1.0);
-    case MotionRegBoundary::kIgnoreLabels:
-      return pair_weight * Rho(mp, mq);
-  }
-  return 0.0;
-}
-
-double MotionRegTerm::MotionDependentWeight(double pair_weight, int label_p, int label_q) const {
-  if (boundary != MotionRegBoundary::kIgnoreLabels && label_p != label_q) return 0;
-  return pair_weight;
 }
 
 std::vector<float> WindowSpread(const LabelCostVolume& volume, const cv::Mat& labels) {

@@ -13,6 +13,7 @@
 // the header comment, explains the default).
 #pragma once
 
+#include <algorithm>
 #include <vector>
 
 #include <Eigen/Core>
@@ -39,18 +40,39 @@ struct MotionRegTerm {
   MotionRegBoundary boundary = MotionRegBoundary::kIgnoreLabels;
 
   // ρ_m(m_p − m_q), in [0, 1].
-  double Rho(const Eigen::Vector2f& mp, const Eigen::Vector2f& mq) const;
+  double Rho(const Eigen::Vector2f& mp, const Eigen::Vector2f& mq) const {
+    const double tau = truncation_px;
+    if (quadratic) return std::min((mp - mq).squaredNorm() / (tau * tau), 1.0);
+    return std::min(static_cast<double>((mp - mq).norm()), tau) / tau;
+  }
   // max over y of Rho(from, y) − Rho(to, y) (mrf::GridEnergy::PairwiseDecreaseBound).
   double RhoDecreaseBound(const Eigen::Vector2f& from, const Eigen::Vector2f& to) const;
   // w_pq from the pixels' weights w_p, w_q and the pair's colour contrast c_pq
   // (read only when edge_aware).
-  double PairWeight(float weight_p, float weight_q, float colour_contrast) const;
+  double PairWeight(float weight_p, float weight_q, float colour_contrast) const {
+    double wr = 0.5 * (weight_p + weight_q);
+    if (edge_aware) wr *= colour_contrast;
+    return wr;
+  }
   // λ_r E_r of one pair with weight w_pq, labels l_p, l_q and motions m_p, m_q.
   double Cost(double pair_weight, int label_p, int label_q, const Eigen::Vector2f& mp,
-              const Eigen::Vector2f& mq) const;
+              const Eigen::Vector2f& mq) const {
+    switch (boundary) {
+      case MotionRegBoundary::kFree:
+        return label_p == label_q ? pair_weight * Rho(mp, mq) : 0.0;
+      case MotionRegBoundary::kDiscontinuity:
+        return pair_weight * (label_p == label_q ? Rho(mp, mq) : 1.0);
+      case MotionRegBoundary::kIgnoreLabels:
+        return pair_weight * Rho(mp, mq);
+    }
+    return 0.0;
+  }
   // The part of Cost that multiplies Rho at these labels: w_pq, or 0 where the
   // pair's cost does not depend on the motions (a label boundary unless kIgnoreLabels).
-  double MotionDependentWeight(double pair_weight, int label_p, int label_q) const;
+  double MotionDependentWeight(double pair_weight, int label_p, int label_q) const {
+    if (boundary != MotionRegBoundary::kIgnoreLabels && label_p != label_q) return 0;
+    return pair_weight;
+  }
 };
 
 // e_r^X(p): mean minus min of a label cost over p's 3x3 window (clipped at the

@@ -15,6 +15,9 @@
 // frame's solved depth warped by the solved flow, which is pipeline work.
 #pragma once
 
+#include <algorithm>
+#include <cstdlib>
+
 namespace u4d {
 
 struct SmoothnessTerm {
@@ -24,11 +27,18 @@ struct SmoothnessTerm {
   int unknown = 0;             // the label U
 
   // ρ_d(a, b) above, in [0, 1].
-  double Distance(int a, int b) const;
+  double Distance(int a, int b) const {
+    if (a == unknown || b == unknown) return a == b ? 0.0 : 1.0;
+    return std::min<double>(std::abs(a - b), truncation) / truncation;
+  }
   // The spatial part of one pair whose pixels are both in the region of interest.
-  double Spatial(int label_p, int label_q, int depth_p, int depth_q) const;
+  double Spatial(int label_p, int label_q, int depth_p, int depth_q) const {
+    return label_p == label_q ? spatial_weight * Distance(depth_p, depth_q) : 0.0;
+  }
   // The temporal part at one pixel; previous_depth < 0: no depth at t−1, 0.
-  double Temporal(int depth, int previous_depth) const;
+  double Temporal(int depth, int previous_depth) const {
+    return previous_depth >= 0 ? temporal_weight * Distance(depth, previous_depth) : 0.0;
+  }
 };
 
 }  // namespace u4d

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "u4d/joint/joint_energy.h"
 #include "u4d/mrf/expansion.h"
 
 namespace u4d {
@@ -78,6 +79,40 @@ TEST(SmoothnessTest, TemporalPartMatchesTheFormula) {
   EXPECT_NEAR(sum, 0.15 * 2.5, 1e-12);
   EXPECT_DOUBLE_EQ(term.Temporal(3, -1), 0.0);
   EXPECT_DOUBLE_EQ(term.Temporal(1, 8), 0.15);  // truncated
+}
+
+// The same grid through JointEnergy::EnergyOf with only E_s on: the spatial sum
+// above; a pair with a pixel outside the region of interest has no E_s; the
+// temporal part is a unary of every pixel in the region.
+TEST(SmoothnessTest, JointEnergySumsSpatialAndTemporalSmoothness) {
+  JointEnergy energy;
+  energy.terms = {};
+  energy.terms.depth = energy.terms.appearance = energy.terms.semantic = false;
+  energy.terms.flow = energy.terms.contrast = energy.terms.motion_reg = false;
+  energy.terms.pose = false;
+  energy.width = energy.height = 3;
+  energy.num_pixels = 9;
+  energy.num_labels = 2;
+  energy.grid = Grid3x3();
+  energy.pairs = mrf::NeighbourPairs(energy.grid);
+  energy.label_unary.assign(9 * 2, 0.f);
+  energy.unknown = kUnknown;
+  energy.smoothness = Term();
+  JointLabelling labelling;
+  labelling.labels = kLabels;
+  labelling.depths = kDepths;
+  labelling.motions.assign(9, 0);
+  labelling.motion_vectors.assign(9, Eigen::Vector2f::Zero());
+  labelling.flow_costs.assign(9, 0.f);
+  EXPECT_NEAR(energy.EnergyOf(labelling), 0.2 * 7.25, 1e-12);
+
+  // Pixel 8 outside the region: pairs (5,8) (ρ 1) and (7,8) (ρ 0.25) drop out.
+  energy.grid.active = {1, 1, 1, 1, 1, 1, 1, 1, 0};
+  EXPECT_NEAR(energy.EnergyOf(labelling), 0.2 * 6.0, 1e-12);
+
+  // The temporal part (pixel 8, outside, does not count: its ρ is 0 anyway).
+  energy.previous_depth_label = {2, -1, 5, 4, 6, -1, 9, 5, 6};
+  EXPECT_NEAR(energy.EnergyOf(labelling), 0.2 * 6.0 + 0.15 * 2.5, 1e-12);
 }
 
 }  // namespace
