@@ -10,6 +10,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "bench_worlds.h"
 #include "u4d/eval/flow_baselines.h"
 #include "u4d/io/capture.h"
 #include "u4d/io/image_io.h"
@@ -33,9 +34,11 @@ double Epe(const cv::Mat& flow, const cv::Mat& gt, const cv::Mat& mask) {
   return sum / n;
 }
 
-int Main() {
-  synth::SynthOptions o = synth::SmallHandshakeOptions(6, 480, 270, 3);
-  o.start_frame = 128;
+// One world: the cost volumes' winner-take-all flow and OpenCV's flows
+// against GT on view 0, frame 1.
+void RunWorld(const std::string& world) {
+  synth::SynthOptions o = bench::World(world, 6, 480, 270, 3);
+  if (world == "handshake") o.start_frame = 128;
   const fs::path dir = synth::WriteCaptureToTempDir("flow_cost_bench", o);
   const Capture capture = ReadCapture(dir);
   const int t = 1, ref = 0;
@@ -63,8 +66,9 @@ int Main() {
     in.sparse.push_back({Eigen::Vector2d(q.x, q.y), Eigen::Vector2d(f[0], f[1]), 0});
   }
   const double zero = Epe(cv::Mat(gt.size(), CV_32FC2, cv::Scalar(0, 0)), gt, mask);
-  std::printf("480x270, view %s, %d GT-valid person pixels, roi %d pixels, zero-flow EPE %.3f px\n",
-              name.c_str(), cv::countNonZero(mask), cv::countNonZero(in.roi), zero);
+  std::printf(
+      "%s 480x270, view %s, %d GT-valid person pixels, roi %d pixels, zero-flow EPE %.3f px\n",
+      world.c_str(), name.c_str(), cv::countNonZero(mask), cv::countNonZero(in.roi), zero);
   double ms_ref = 0;
   for (int window = 1; window <= 4; ++window) {
     MotionLabelOptions lo;
@@ -91,6 +95,16 @@ int Main() {
                 eval::ToString(b).c_str(), Epe(flow, gt, mask), ms, ms_ref / ms);
   }
   fs::remove_all(dir);
+}
+
+int Main() {
+  for (const std::string world : {"handshake", "realistic"}) {
+    if (bench::WorldAvailable(world))
+      RunWorld(world);
+    else
+      std::printf("%s: skipped (no shared data at %s)\n", world.c_str(),
+                  bench::DataDir().string().c_str());
+  }
   return 0;
 }
 

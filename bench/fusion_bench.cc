@@ -1,5 +1,7 @@
-// Timing of the fusion module (docs/fusion.md): FuseObject per object per
-// frame at 8 views x 480x270 and 8 x 960x540, TrackVertices per step, and
+// Timing of the fusion module (docs/fusion.md), on the handshake (walking)
+// and on the realistic world (captured performers; skipped without the shared
+// data): FuseObject per object per frame at 8 views x 480x270 and 8 x
+// 960x540, TrackVertices per step, and
 // the vertex drift of a tracked 10-frame segment against the GT meshes;
 // then, on the 480x270 frame, FuseObject per Poisson octree depth and
 // thread count (time, vertices, Chamfer against the GT mesh).
@@ -12,6 +14,7 @@
 #include <open3d/geometry/PointCloud.h>
 #include <open3d/geometry/TriangleMesh.h>
 
+#include "bench_worlds.h"
 #include "u4d/eval/mesh_metrics.h"
 #include "u4d/fusion/depth_fusion.h"
 #include "u4d/fusion/fusion_test_util.h"
@@ -40,72 +43,80 @@ std::vector<SceneFlowView> Step(const Maps& a, const Maps& b) {
 }  // namespace
 
 int main() {
-  for (const auto& [w, h, frames] : {std::tuple{480, 270, 11}, std::tuple{960, 540, 2}}) {
-    synth::SynthOptions o = synth::SmallHandshakeOptions(8, w, h, frames);
-    o.write_meshes = true;
-    o.start_frame = 10;  // walking: centimetres of motion per frame
-    const fs::path dir = synth::WriteCaptureToTempDir("fusion_bench", o);
-    const Capture c = ReadCapture(dir);
-    std::vector<Maps> maps;
-    for (int f = 0; f < frames; ++f) maps.push_back(fusion_test::ReadGtFrame(c, f));
-    for (int id = 1; id <= 2; ++id) {
-      Timer t;
-      const FusedMesh fm = FuseObject(maps[0].cameras, maps[0].depths, maps[0].ids, maps[0].images,
-                                      id, FusionOptions{});
-      const double fuse_s = t.Seconds();
-      const auto gt = eval::ReadMesh(dir / layout::GtMesh(id, 0));
-      const eval::ChamferResult r = eval::MeshChamfer(*fm.mesh, gt, {});
-      std::printf(
-          "8x%dx%d person %d: FuseObject %.2f s (%d points, %zu vertices), chamfer %.1f mm "
-          "(fused->gt %.1f, gt->fused %.1f)\n",
-          w, h, id, fuse_s, fm.num_points_used, fm.mesh->vertices_.size(), r.chamfer * 1e3,
-          r.pred_to_gt * 1e3, r.gt_to_pred * 1e3);
-      if (frames < 3) continue;  // tracking only on the 10-frame segment
-      for (const auto& [depth, threads] :
-           {std::pair{8, 1}, std::pair{8, 2}, std::pair{7, 1}, std::pair{7, 2}, std::pair{9, 1}}) {
-        FusionOptions fo;
-        fo.poisson_depth = depth;
-        fo.poisson_threads = threads;
-        Timer tp;
-        const FusedMesh pm =
-            FuseObject(maps[0].cameras, maps[0].depths, maps[0].ids, maps[0].images, id, fo);
-        const double pm_s = tp.Seconds();
-        const eval::ChamferResult pr = eval::MeshChamfer(*pm.mesh, gt, {});
-        std::printf(
-            "  poisson depth %d, %d thread(s): FuseObject %.2f s, %zu vertices, chamfer "
-            "%.2f mm\n",
-            depth, threads, pm_s, pm.mesh->vertices_.size(), pr.chamfer * 1e3);
-      }
-      // Track over the segment; drift against the matched GT vertices.
-      open3d::geometry::PointCloud gt0;
-      gt0.points_ = gt.vertices_;
-      open3d::geometry::KDTreeFlann tree(gt0);
-      const auto& verts = fm.mesh->vertices_;
-      std::vector<int> match(verts.size()), idx(1);
-      std::vector<double> d2(1);
-      for (size_t i = 0; i < verts.size(); ++i) {
-        tree.SearchKNN(verts[i], 1, idx, d2);
-        match[i] = idx[0];
-      }
-      Timer tt;
-      const AnimatedMesh seg = TrackSegment(
-          *fm.mesh, id, 0, frames - 1, [&](int k) { return Step(maps[k], maps[k + 1]); },
-          TrackOptions{});
-      const double track_s = tt.Seconds() / (frames - 1);
-      std::printf("  TrackVertices %.3f s per step (%d vertices, 8 views); median drift (mm):",
-                  track_s, seg.NumVertices());
-      for (int k = 1; k < frames; ++k) {
-        const auto gk = eval::ReadMesh(dir / layout::GtMesh(id, k));
-        std::vector<double> drift;
-        for (size_t i = 0; i < verts.size(); ++i)
-          drift.push_back(
-              (seg.positions[k][i] - (gk.vertices_[match[i]] + verts[i] - gt.vertices_[match[i]]))
-                  .norm());
-        std::printf(" %.1f", Median(drift) * 1e3);
-      }
-      std::printf("\n");
+  for (const std::string world : {"handshake", "realistic"}) {
+    if (!bench::WorldAvailable(world)) {
+      std::printf("%s: skipped (no shared data at %s)\n", world.c_str(),
+                  bench::DataDir().string().c_str());
+      continue;
     }
-    fs::remove_all(dir);
+    std::printf("== %s\n", world.c_str());
+    for (const auto& [w, h, frames] : {std::tuple{480, 270, 11}, std::tuple{960, 540, 2}}) {
+      synth::SynthOptions o = bench::World(world, 8, w, h, frames);
+      o.write_meshes = true;
+      if (world == "handshake") o.start_frame = 10;  // walking: centimetres of motion per frame
+      const fs::path dir = synth::WriteCaptureToTempDir("fusion_bench", o);
+      const Capture c = ReadCapture(dir);
+      std::vector<Maps> maps;
+      for (int f = 0; f < frames; ++f) maps.push_back(fusion_test::ReadGtFrame(c, f));
+      for (int id = 1; id <= 2; ++id) {
+        Timer t;
+        const FusedMesh fm = FuseObject(maps[0].cameras, maps[0].depths, maps[0].ids,
+                                        maps[0].images, id, FusionOptions{});
+        const double fuse_s = t.Seconds();
+        const auto gt = eval::ReadMesh(dir / layout::GtMesh(id, 0));
+        const eval::ChamferResult r = eval::MeshChamfer(*fm.mesh, gt, {});
+        std::printf(
+            "8x%dx%d person %d: FuseObject %.2f s (%d points, %zu vertices), chamfer %.1f mm "
+            "(fused->gt %.1f, gt->fused %.1f)\n",
+            w, h, id, fuse_s, fm.num_points_used, fm.mesh->vertices_.size(), r.chamfer * 1e3,
+            r.pred_to_gt * 1e3, r.gt_to_pred * 1e3);
+        if (frames < 3) continue;  // tracking only on the 10-frame segment
+        for (const auto& [depth, threads] : {std::pair{8, 1}, std::pair{8, 2}, std::pair{7, 1},
+                                             std::pair{7, 2}, std::pair{9, 1}}) {
+          FusionOptions fo;
+          fo.poisson_depth = depth;
+          fo.poisson_threads = threads;
+          Timer tp;
+          const FusedMesh pm =
+              FuseObject(maps[0].cameras, maps[0].depths, maps[0].ids, maps[0].images, id, fo);
+          const double pm_s = tp.Seconds();
+          const eval::ChamferResult pr = eval::MeshChamfer(*pm.mesh, gt, {});
+          std::printf(
+              "  poisson depth %d, %d thread(s): FuseObject %.2f s, %zu vertices, chamfer "
+              "%.2f mm\n",
+              depth, threads, pm_s, pm.mesh->vertices_.size(), pr.chamfer * 1e3);
+        }
+        // Track over the segment; drift against the matched GT vertices.
+        open3d::geometry::PointCloud gt0;
+        gt0.points_ = gt.vertices_;
+        open3d::geometry::KDTreeFlann tree(gt0);
+        const auto& verts = fm.mesh->vertices_;
+        std::vector<int> match(verts.size()), idx(1);
+        std::vector<double> d2(1);
+        for (size_t i = 0; i < verts.size(); ++i) {
+          tree.SearchKNN(verts[i], 1, idx, d2);
+          match[i] = idx[0];
+        }
+        Timer tt;
+        const AnimatedMesh seg = TrackSegment(
+            *fm.mesh, id, 0, frames - 1, [&](int k) { return Step(maps[k], maps[k + 1]); },
+            TrackOptions{});
+        const double track_s = tt.Seconds() / (frames - 1);
+        std::printf("  TrackVertices %.3f s per step (%d vertices, 8 views); median drift (mm):",
+                    track_s, seg.NumVertices());
+        for (int k = 1; k < frames; ++k) {
+          const auto gk = eval::ReadMesh(dir / layout::GtMesh(id, k));
+          std::vector<double> drift;
+          for (size_t i = 0; i < verts.size(); ++i)
+            drift.push_back(
+                (seg.positions[k][i] - (gk.vertices_[match[i]] + verts[i] - gt.vertices_[match[i]]))
+                    .norm());
+          std::printf(" %.1f", Median(drift) * 1e3);
+        }
+        std::printf("\n");
+      }
+      fs::remove_all(dir);
+    }
   }
   return 0;
 }

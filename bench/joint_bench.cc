@@ -10,7 +10,8 @@
 // person pixels. Every view of frames 1 .. frames-2 is solved.
 // A plain executable that prints; run from a Release build:
 //   build/bench/joint_bench [--views 8] [--width 480] [--height 270] [--frames 4]
-//       [--start 128] [--preset handshake|meetup] [--sparse 150] [--no-ablations]
+//       [--start 128] [--preset handshake|meetup|realistic|realistic-moving] [--sparse 150]
+//       [--no-ablations]
 //       [--max-views N] [--working-width 480] [--methods full,P_M,...]
 //       [--reg-boundary free|discontinuity|ignore] [--weights '{"pose": 0.9}'] [--no-cross-view]
 //       [--reg-linear] [--no-reg-edge] [--force-merge] [--no-split-merged]
@@ -45,6 +46,7 @@
 #include <open3d/geometry/TriangleMesh.h>
 #include <opencv2/imgproc.hpp>
 
+#include "bench_worlds.h"
 #include "u4d/eval/dense_metrics.h"
 #include "u4d/eval/flow_baselines.h"
 #include "u4d/eval/fused_reconstruction.h"
@@ -222,22 +224,8 @@ double Nan() { return std::nan(""); }
 
 int main(int argc, char** argv) try {
   const Args args = ParseArgs(argc, argv);
-  synth::SynthOptions so;
-  if (args.preset == "handshake") {
-    so = synth::SmallHandshakeOptions(args.views, args.width, args.height, args.frames);
-  } else {
-    so = synth::SynthPreset(args.preset);
-    so.rig.num_views = args.views;
-    so.rig.image_width = args.width;
-    so.rig.image_height = args.height;
-    so.num_frames = args.frames;
-    so.write_meshes = false;
-    if (args.preset == "meetup") {
-      const char* env = std::getenv("U4D_DATA_DIR");
-      const fs::path data = env != nullptr && *env ? fs::path(env) : fs::path("/work/shared/data");
-      so.mocap_bvh = data / "mocap_cmu131" / "scaled_131_02.bvh";
-    }
-  }
+  synth::SynthOptions so =
+      bench::World(args.preset, args.views, args.width, args.height, args.frames);
   so.start_frame = args.start;
   // GT meshes for the fused reconstruction's Chamfer distance (all views solved).
   so.write_meshes = args.max_views <= 0 || args.max_views >= args.views;
@@ -253,7 +241,12 @@ int main(int argc, char** argv) try {
 
   const Capture capture = ReadCapture(dir);
   FrameReader reader(capture);
-  const std::vector<std::vector<Pose3d>> poses = ReadGtPoses3d(capture);
+  // Captured performers have no skeleton: without GT joints the solve has no
+  // pose prior (as on a real capture without poses).
+  const std::vector<std::vector<Pose3d>> poses =
+      fs::exists(dir / layout::GtJoints3d(0))
+          ? ReadGtPoses3d(capture)
+          : std::vector<std::vector<Pose3d>>(capture.num_frames);
 
   std::vector<std::string> methods = {"full"};
   if (args.ablations)

@@ -1,0 +1,49 @@
+// The synthetic worlds the benches run on, by preset name: the presets the
+// method was developed on and the realistic ones it was not tuned on
+// (captured performers, docs/synthetic.md), so that a change that helps one
+// world and hurts the other is seen in the same run.
+#pragma once
+
+#include <cstdlib>
+#include <string>
+
+#include "u4d/synth/generate.h"
+#include "u4d/util/file.h"
+
+#ifndef U4D_SHARED_DATA_DIR
+#define U4D_SHARED_DATA_DIR ""
+#endif
+
+namespace u4d::bench {
+
+// $U4D_DATA_DIR if set, else the ../shared/data beside the source checkout.
+inline fs::path DataDir() {
+  const char* env = std::getenv("U4D_DATA_DIR");
+  return env != nullptr && *env != '\0' ? fs::path(env) : fs::path(U4D_SHARED_DATA_DIR);
+}
+
+// Whether `preset` can be synthesised here (the meetup needs the CMU clip, the
+// realistic presets the captured meshes of the shared data).
+inline bool WorldAvailable(const std::string& preset) {
+  if (preset == "meetup") return fs::exists(DataDir() / "mocap_cmu131" / "scaled_131_02.bvh");
+  if (preset.rfind("realistic", 0) == 0) return fs::is_directory(DataDir() / "captured_meshes");
+  return true;
+}
+
+// The preset at a bench's size, without GT meshes (set write_meshes for them).
+inline synth::SynthOptions World(const std::string& preset, int views, int width, int height,
+                                 int frames) {
+  synth::SynthOptions o = preset == "handshake"
+                              ? synth::SmallHandshakeOptions(views, width, height, frames)
+                              : synth::SynthPreset(preset);
+  o.rig.num_views = views;
+  o.rig.image_width = width;
+  o.rig.image_height = height;
+  o.num_frames = frames;
+  o.write_meshes = false;
+  if (preset == "meetup") o.mocap_bvh = DataDir() / "mocap_cmu131" / "scaled_131_02.bvh";
+  if (!o.captured.empty()) o.captured_meshes = DataDir() / "captured_meshes";
+  return o;
+}
+
+}  // namespace u4d::bench
