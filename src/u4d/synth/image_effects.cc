@@ -75,6 +75,30 @@ FloorShadowMap MakeFloorShadowMap(const SceneFrame& frame, const Eigen::Vector3d
   return map;
 }
 
+namespace {
+
+// The pixels where the shadow map's rectangle on the floor can appear: the
+// bounding box of its projected corners, or the whole image when a corner is
+// behind the camera.
+cv::Rect ShadowRoi(const Camera& camera, const FloorShadowMap& shadows) {
+  const cv::Rect image(0, 0, camera.width, camera.height);
+  const Eigen::Vector2d size(shadows.coverage.cols * shadows.cell,
+                             shadows.coverage.rows * shadows.cell);
+  cv::Rect roi;
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector2d xz =
+        shadows.origin + Eigen::Vector2d((k & 1) ? size.x() : 0, (k & 2) ? size.y() : 0);
+    const Eigen::Vector2d px = camera.Project(Eigen::Vector3d(xz.x(), 0, xz.y()));
+    if (!px.allFinite()) return image;
+    const cv::Rect corner(static_cast<int>(std::floor(px.x())) - 1,
+                          static_cast<int>(std::floor(px.y())) - 1, 3, 3);
+    roi = k == 0 ? corner : (roi | corner);
+  }
+  return roi & image;
+}
+
+}  // namespace
+
 void ApplyFloorShadows(const Camera& camera, const cv::Mat& depth, const cv::Mat& instance,
                        const FloorShadowMap& shadows, const ImageEffectsOptions& options,
                        cv::Mat* color) {
@@ -83,11 +107,12 @@ void ApplyFloorShadows(const Camera& camera, const cv::Mat& depth, const cv::Mat
                 instance.type() == CV_16UC1 && depth.size() == color->size() &&
                 instance.size() == color->size(),
             "ApplyFloorShadows: colour, depth and instance images must match");
-  for (int y = 0; y < color->rows; ++y) {
+  const cv::Rect roi = ShadowRoi(camera, shadows);
+  for (int y = roi.y; y < roi.y + roi.height; ++y) {
     const float* z = depth.ptr<float>(y);
     const uint16_t* id = instance.ptr<uint16_t>(y);
     cv::Vec3b* c = color->ptr<cv::Vec3b>(y);
-    for (int x = 0; x < color->cols; ++x) {
+    for (int x = roi.x; x < roi.x + roi.width; ++x) {
       if (id[x] != 0 || !(z[x] > 0) || !std::isfinite(z[x])) continue;
       const Eigen::Vector3d world = camera.Unproject(Eigen::Vector2d(x, y), z[x]);
       if (std::abs(world.y()) > 0.01) continue;
