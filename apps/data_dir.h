@@ -1,22 +1,11 @@
-// Where the shared real data lives: $U4D_DATA_DIR if set, else the
-// ../shared/data beside the source checkout this binary was built from.
+// The shared real data the `u4d` command falls back on (util/data_dir.h).
 #pragma once
 
-#include <cstdlib>
-
 #include "u4d/util/check.h"
+#include "u4d/util/data_dir.h"
 #include "u4d/util/file.h"
 
-#ifndef U4D_SHARED_DATA_DIR
-#define U4D_SHARED_DATA_DIR ""
-#endif
-
 namespace u4d::apps {
-
-inline fs::path DataDir() {
-  const char* env = std::getenv("U4D_DATA_DIR");
-  return env != nullptr && *env != '\0' ? fs::path(env) : fs::path(U4D_SHARED_DATA_DIR);
-}
 
 inline fs::path DefaultMocapClip() {
   const fs::path clip = DataDir() / "mocap_cmu131" / "scaled_131_02.bvh";

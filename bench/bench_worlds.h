@@ -4,23 +4,15 @@
 // world and hurts the other is seen in the same run.
 #pragma once
 
-#include <cstdlib>
 #include <string>
 
 #include "u4d/synth/generate.h"
+#include "u4d/util/data_dir.h"
 #include "u4d/util/file.h"
-
-#ifndef U4D_SHARED_DATA_DIR
-#define U4D_SHARED_DATA_DIR ""
-#endif
 
 namespace u4d::bench {
 
-// $U4D_DATA_DIR if set, else the ../shared/data beside the source checkout.
-inline fs::path DataDir() {
-  const char* env = std::getenv("U4D_DATA_DIR");
-  return env != nullptr && *env != '\0' ? fs::path(env) : fs::path(U4D_SHARED_DATA_DIR);
-}
+using ::u4d::DataDir;
 
 // Whether `preset` can be synthesised here (the meetup needs the CMU clip, the
 // realistic presets the captured meshes of the shared data).

@@ -13,6 +13,7 @@
 #include "u4d/io/layout.h"
 #include "u4d/synth/contact.h"
 #include "u4d/synth/generate.h"
+#include "u4d/util/data_dir.h"
 #include "u4d/util/testing.h"
 
 namespace u4d::synth {
@@ -104,7 +105,7 @@ TEST(CapturedTest, ClosestApproachIsTheGap) {
 // against the meshes it wrote (vertex depth against the depth maps, vertex
 // motion against the flow).
 TEST(CapturedTest, RealisticGroundTruthMatchesTheMeshes) {
-  const fs::path data = fs::path(U4D_SHARED_DATA_DIR) / "captured_meshes";
+  const fs::path data = DataDir() / "captured_meshes";
   if (!fs::is_directory(data)) GTEST_SKIP() << "real data absent: " << data;
   SynthOptions o = SynthPreset("realistic");
   o.captured_meshes = data;
