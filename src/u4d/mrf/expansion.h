@@ -9,7 +9,7 @@
 // Energy: E(f) = sum_p Unary(p, f_p) + sum_{(p,q)} Pairwise(p, q, f_p, f_q)
 // over the pixels p = y*width + x of a width x height grid and its 4- or
 // 8-neighbour pairs (p < q). Labels are ints >= 0 whose meaning is the
-// caller's (the joint solver packs (l, d, m) into one int).
+// caller's (the joint solver alternates label, depth and motion blocks (joint/block_schedule.h)).
 //
 // A move is a binary problem: each optimised pixel keeps its label (x_p = 0)
 // or takes a proposed one (x_p = 1: alpha for an expansion, proposal[p] for a

@@ -19,6 +19,7 @@
 #include "u4d/io/scene_index.h"
 #include "u4d/synth/generate.h"
 #include "u4d/util/check.h"
+#include "u4d/util/data_dir.h"
 #include "u4d/util/file.h"
 #include "u4d/util/testing.h"
 
@@ -124,6 +125,48 @@ TEST(PipelineTest, RunsEndToEndAndBeatsTheInitialMasks) {
     EXPECT_FALSE(s.glb.empty());
     for (const auto& [id, glb] : s.glb) EXPECT_TRUE(fs::exists(scene / glb)) << glb;
   }
+}
+
+// The realistic world (docs/synthetic.md), which nothing was tuned on: two
+// captured performers who touch, a detector's failures, no 2D keypoints. The
+// run must work from the masks alone, refine them (class and instance IoU
+// against GT above the detector's) and mesh every visible person at every
+// frame. One id per person is the identity work's target, not met yet: the
+// figures are printed (eval.json "identity").
+TEST(PipelineTest, RealisticWorldFromTheDetectorsMasksAlone) {
+  const fs::path data = DataDir() / "captured_meshes";
+  if (!fs::is_directory(data)) GTEST_SKIP() << "real data absent: " << data;
+  synth::SynthOptions o = synth::SynthPreset("realistic");
+  o.captured_meshes = data;
+  o.rig.num_views = 4;
+  o.rig.image_width = 480;
+  o.rig.image_height = 270;
+  o.num_frames = 3;
+  o.seed = 11;  // not among the seeds the detector model was tuned on
+  const fs::path capture = synth::WriteCaptureToTempDir("pipeline_realistic", o);
+  const fs::path scene = test_util::FreshTestDir("pipeline", "realistic_scene");
+  const RunResult run = RunPipeline(capture, scene, FastOptions());
+  EXPECT_EQ(run.log.masks, "given");
+  EXPECT_EQ(run.log.poses, "none");
+  ASSERT_TRUE(run.evaluated);
+
+  const eval::EvalReport initial = eval::EvaluateCapture({capture, {}, true});
+  const eval::EvalReport ours = eval::EvaluateCapture({capture, scene, false});
+  ASSERT_TRUE(initial.instances && ours.instances && ours.identity);
+  const eval::IdentitySummary id = ours.identity->Summarize();
+  std::printf(
+      "[pipeline realistic] instance IoU %.3f -> %.3f, class IoU %.3f -> %.3f; %d objects, "
+      "%.2f ids per person, %d switches, %d cross-view; %d of %d frames without a mesh\n",
+      initial.instances->MeanInstanceIoU(), ours.instances->MeanInstanceIoU(),
+      initial.instances->MeanClassIoU(), ours.instances->MeanClassIoU(), run.objects,
+      id.mean_ids_per_person, id.switches, id.cross_view_disagreements, id.no_mesh_frames,
+      id.visible_frames);
+  EXPECT_GT(ours.instances->MeanClassIoU(), initial.instances->MeanClassIoU());
+  EXPECT_GT(ours.instances->MeanInstanceIoU(), initial.instances->MeanInstanceIoU());
+  EXPECT_EQ(id.matched_people, 2);
+  ASSERT_TRUE(id.with_meshes);
+  EXPECT_EQ(id.no_mesh_frames, 0);
+  fs::remove_all(capture);
 }
 
 // Without poses the objects come from the cross-view association of the
