@@ -29,6 +29,11 @@ namespace u4d::synth {
 
 namespace {
 
+// The presets whose people are all captured performers.
+bool IsRealistic(const std::string& preset) {
+  return preset == "realistic" || preset == "realistic-moving";
+}
+
 // The realistic presets' world (generate.h).
 void SetRealistic(SynthOptions* o) {
   o->environment.indoor = true;
@@ -78,7 +83,7 @@ SynthOptions SynthPreset(const std::string& preset) {
     o.environment.indoor = true;
     o.rig.angular_speed_deg_per_s = 12.0;
     o.rig.bob_amplitude = 0.1;
-  } else if (preset == "realistic" || preset == "realistic-moving") {
+  } else if (IsRealistic(preset)) {
     SetRealistic(&o);
     if (preset == "realistic-moving") {
       o.rig.angular_speed_deg_per_s = 12.0;
@@ -128,7 +133,7 @@ namespace {
 PeopleScript MakeScript(const SynthOptions& o, int script_frames) {
   if (o.preset == "meetup")
     return MakeMeetupScript(o.num_people, script_frames, o.fps, o.seed, o.mocap_bvh);
-  if (o.preset == "realistic" || o.preset == "realistic-moving") {
+  if (IsRealistic(o.preset)) {
     PeopleScript empty;
     empty.fps = o.fps;
     empty.num_frames = script_frames;
