@@ -62,6 +62,7 @@
 #include "u4d/joint/frame_setup.h"
 #include "u4d/joint/joint_view.h"
 #include "u4d/joint/truth_inputs.h"
+#include "u4d/pipeline/initial_objects.h"
 #include "u4d/synth/generate.h"
 #include "u4d/util/check.h"
 #include "u4d/util/timer.h"
@@ -220,6 +221,29 @@ struct TraceStats {
 
 double Nan() { return std::nan(""); }
 
+// The objects of every frame from the capture's masks, without poses.
+std::vector<FrameObjects> AssociateObjects(const Capture& capture, FrameReader* reader) {
+  ObjectLinker linker;
+  const std::vector<std::vector<Pose3d>> no_poses(capture.num_frames);
+  std::vector<FrameObjects> objects;
+  for (int f = 0; f < capture.num_frames; ++f) {
+    const JointFrameData d = ReadJointFrameData(capture, reader, f, no_poses);
+    objects.push_back(ObjectsFromSparse(d.cameras_t, d.images_t, d.masks_t, SparseFrameOptions{},
+                                        ObjectRegionOptions{}, &linker));
+  }
+  return objects;
+}
+
+// Puts the frame's object masks and depth ranges (and its neighbours' masks)
+// into `data`.
+void UseObjects(const std::vector<FrameObjects>& objects, int frame, JointFrameData* data) {
+  data->masks_t = objects[frame].ids;
+  if (frame > 0) data->masks_prev = objects[frame - 1].ids;
+  if (frame + 1 < static_cast<int>(objects.size())) data->masks_t1 = objects[frame + 1].ids;
+  data->masks_are_object_ids = true;
+  data->object_depth_ranges = objects[frame].depth_ranges;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) try {
@@ -242,11 +266,13 @@ int main(int argc, char** argv) try {
   const Capture capture = ReadCapture(dir);
   FrameReader reader(capture);
   // Captured performers have no skeleton: without GT joints the solve has no
-  // pose prior (as on a real capture without poses).
+  // pose prior, and the objects come from the masks' cross-view association,
+  // as `u4d run` makes them without poses (pipeline/initial_objects.h).
+  const bool gt_poses = fs::exists(dir / layout::GtJoints3d(0));
   const std::vector<std::vector<Pose3d>> poses =
-      fs::exists(dir / layout::GtJoints3d(0))
-          ? ReadGtPoses3d(capture)
-          : std::vector<std::vector<Pose3d>>(capture.num_frames);
+      gt_poses ? ReadGtPoses3d(capture) : std::vector<std::vector<Pose3d>>(capture.num_frames);
+  std::vector<FrameObjects> objects;
+  if (!gt_poses) objects = AssociateObjects(capture, &reader);
 
   std::vector<std::string> methods = {"full"};
   if (args.ablations)
@@ -275,6 +301,7 @@ int main(int argc, char** argv) try {
 
   for (int frame = 1; frame + 1 < capture.num_frames; ++frame) {
     JointFrameData data = ReadJointFrameData(capture, &reader, frame, poses);
+    if (!gt_poses) UseObjects(objects, frame, &data);
     std::vector<ViewTruth> truth;
     for (int v = 0; v < capture.NumViews(); ++v) {
       truth.push_back(ReadViewTruth(capture, v, frame));
