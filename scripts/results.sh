@@ -124,7 +124,7 @@ else
   RENDER_ARGS=()
   : "${SPEED_VIEWS:=4 8}" "${SPEED_SIZES:=480x270}" "${SPEED_FRAMES:=4}"
   SCEN_ARGS=(--frames 10 --views 8 --width 480 --height 270)
-  DETECTOR_ARGS=(--frames 20 --views 8 --width 960 --height 540)
+  DETECTOR_ARGS=(--views 8 --width 960 --height 540)  # the preset's 50 frames
   RECON_ARGS=(--views 8 --frames 3 --methods full,P_M,P_P,P_S)
   ABL_RUN_ARGS=(--frames 4)
   SCALE_VIEWS="4 8 16" SCALE_VIEW_SIZE=480x270 SCALE_FRAMES=2
@@ -141,8 +141,9 @@ scen_synth_args() {
   esac
 }
 ABL_SCENARIO=walk
-# The realistic preset's detector was tuned on seeds 1-5: these are held out.
-DETECTOR_SEEDS="6 7 8 9"
+# The realistic preset's detector was tuned on seeds 1-5 (20-frame captures;
+# 6-9 were looked at too): these are held out.
+DETECTOR_SEEDS="10 11 12 13"
 # Long sequences: the scenarios as whole 100+ frame captures (the scripts are
 # stretched to the frame count: approach, handshake, step apart), 4 views at
 # 320x180 solved at width 160 so that three of them fit in about an hour.
@@ -822,8 +823,11 @@ EOF
 
 The initial masks of \`u4d synth --preset realistic ${DETECTOR_ARGS[*]} --seed S\`
 (docs/synthetic.md) against ground truth (\`u4d eval <capture> --initial\`),
-on seeds the detector model was not tuned on (it was tuned on 1-5). The
-ranges a Mask R-CNN-class detector shows on such footage: mean instance IoU
+on seeds the detector model was not tuned on (it was tuned on 1-5). How much
+of a capture the performers spend in contact varies with the seed (the part
+of the performances shown), and merges follow it, so the mean over the seeds
+is the figure to hold against the ranges a Mask R-CNN-class detector shows
+on such footage: mean instance IoU
 0.65-0.78, class IoU 0.78-0.86, merges in at least 40 % of the view-frames
 where people touch (in 3D contact). "frames/s" is the writer's speed
 (rendering, GT flow, degradation, every file).
@@ -831,6 +835,10 @@ where people touch (in 3D contact). "frames/s" is the writer's speed
 | seed | mean instance IoU | class IoU | merges where people touch | missed / false pos. / merged | frames/s |
 |---|---|---|---|---|---|
 EOF
+    local_files=()
+    for seed in $DETECTOR_SEEDS; do
+      [[ -f $WORK/detector_$seed.json ]] && local_files+=("$WORK/detector_$seed.json")
+    done
     for seed in $DETECTOR_SEEDS; do
       [[ -f $WORK/detector_$seed.json ]] || continue
       fps=$(sed -n 's/.*(\([0-9.]*\) frames\/s;.*/\1/p' "$WORK/detector_synth_$seed.out")
@@ -838,6 +846,11 @@ EOF
         "| \($s) | \(.mean_instance_iou | r3) | \(.mean_class_iou | r3) | \(.merge_rate_where_touching | r3) (\(.merged_touching_images) of \(.touching_images)) | \(.missed) / \(.false_positives) / \(.merged) | \($f) |"' \
         "$WORK/detector_$seed.json"
     done
+    if [[ ${#local_files[@]} -gt 0 ]]; then
+      jq -rs "$JQ_DEFS"' map(.instances) |
+        "| mean | \(map(.mean_instance_iou) | add / length | r3) | \(map(.mean_class_iou) | add / length | r3) | \((map(.merged_touching_images) | add) / (map(.touching_images) | add) | r3) (\(map(.merged_touching_images) | add) of \(map(.touching_images) | add)) | | |"' \
+        "${local_files[@]}"
+    fi
     echo
     for seed in $DETECTOR_SEEDS; do provenance "detector_synth_$seed"; provenance "detector_$seed"; done
   fi
