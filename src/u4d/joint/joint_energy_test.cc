@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "u4d/joint/roi_slots.h"
+#include "u4d/joint/term_test_grid.h"
 #include "u4d/mrf/expansion.h"
 
 namespace u4d {
@@ -16,9 +17,9 @@ namespace {
 //                       1 1 0    2  3 7                     0 everywhere but
 //                       1 1 0    4  U 1                     (2, 0) at the centre
 //                       0 0 0    5  5 6
-const std::vector<int> kLabels = {1, 1, 0, 1, 1, 0, 0, 0, 0};
-const std::vector<int> kDepths = {2, 3, 7, 4, 10, 1, 5, 5, 6};
-constexpr int kUnknown = 10;
+using term_test::kDepths;
+using term_test::kLabels;
+using term_test::kUnknown;
 
 JointEnergy Energy() {
   JointEnergy energy;
