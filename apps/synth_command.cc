@@ -25,6 +25,7 @@ struct SynthArgs {
   std::string degrade = "preset";
   std::string captured_meshes;
   bool no_meshes = false;
+  int clean_plate = 0;
   int start_frame = -1;
 };
 
@@ -103,6 +104,9 @@ Command MakeSynthCommand() {
                            "realistic presets: the captured mesh sequences (default: "
                            "captured_meshes in the data dir)");
             app.add_flag("--no-meshes", a->no_meshes, "skip the per-frame GT meshes");
+            app.add_option("--clean-plate", a->clean_plate,
+                           "frames of the empty stage to write as clean plates (background/)")
+                ->check(CLI::NonNegativeNumber);
             app.add_option("--start-frame", a->start_frame,
                            "first script frame of the capture (-1: the window centred on the "
                            "first handshake)")
@@ -113,6 +117,7 @@ Command MakeSynthCommand() {
                 SynthOptionsFromArgs(a->preset, a->frames, a->views, a->width, a->height, a->people,
                                      a->seed, a->mocap, a->degrade);
             o.write_meshes = !a->no_meshes;
+            o.clean_plate_frames = a->clean_plate;
             if (!a->captured_meshes.empty()) o.captured_meshes = a->captured_meshes;
             o.start_frame = a->start_frame;
             PrintSynthSummary(synth::WriteSyntheticCapture(o, a->out, /*progress=*/true), a->out);

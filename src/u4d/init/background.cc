@@ -78,6 +78,71 @@ BackgroundModel MedianOfLab(const std::vector<cv::Mat>& labs) {
   return model;
 }
 
+cv::Mat ToLab(const cv::Mat& bgr) {
+  cv::Mat lab;
+  cv::cvtColor(bgr, lab, cv::COLOR_BGR2Lab);
+  return lab;
+}
+
+// Up to options.max_frames frames, evenly spread, in Lab.
+std::vector<cv::Mat> SampledLabs(int num_frames, const std::function<cv::Mat(int)>& read_frame,
+                                 const BackgroundOptions& options, const std::string& who) {
+  U4D_CHECK(num_frames >= 1, "{}: expected at least one frame, found {}", who, num_frames);
+  U4D_CHECK(static_cast<bool>(read_frame), "{}: no frame reader given", who);
+  std::vector<cv::Mat> labs;
+  for (const int i : SampleIndices(num_frames, options.max_frames)) {
+    const cv::Mat frame = read_frame(i);
+    CheckFrame(frame, fmt::format("{}: frame {}", who, i));
+    if (!labs.empty()) {
+      U4D_CHECK(frame.size() == labs[0].size(),
+                "{}: frame {} is {}x{}, the first sampled frame is {}x{}", who, i, frame.cols,
+                frame.rows, labs[0].cols, labs[0].rows);
+    }
+    labs.push_back(ToLab(frame));
+  }
+  return labs;
+}
+
+// Per pixel, whether at least envelope_min_frames of `labs` have it in their
+// (cleaned) foreground against `model`.
+cv::Mat Envelope(const std::vector<cv::Mat>& labs, const BackgroundModel& model,
+                 const BackgroundOptions& options) {
+  const InitOptions fg_options;
+  cv::Mat count = cv::Mat::zeros(model.lab.size(), CV_16UC1);
+  for (const cv::Mat& lab : labs)
+    cv::add(count, ForegroundFromLab(lab, model, fg_options) / 255, count, cv::noArray(), CV_16UC1);
+  return count >= options.envelope_min_frames;
+}
+
+// Fewer plate frames than this cannot tell noise per pixel: the noise level
+// then comes from the take (below).
+constexpr int kMinPlateFramesForNoise = 3;
+
+// The global noise level from the take's frames against the plate: per
+// pixel the median distance over the frames, then the median over pixels
+// (people cover a minority of the pixels, so the median sees the noise).
+// No per-pixel level: where a person stays in place, the take's distance is
+// the person, not noise.
+void TakeNoise(const std::vector<cv::Mat>& labs, BackgroundModel* model) {
+  const int n = static_cast<int>(labs.size());
+  const int rows = model->lab.rows, cols = model->lab.cols;
+  cv::Mat per_pixel(rows, cols, CV_32FC1);
+  tbb::parallel_for(0, rows, [&](int y) {
+    std::vector<float> d(n);
+    const cv::Vec3b* bg = model->lab.ptr<cv::Vec3b>(y);
+    float* out = per_pixel.ptr<float>(y);
+    for (int x = 0; x < cols; ++x) {
+      for (int i = 0; i < n; ++i) d[i] = LabDistance(labs[i].ptr<cv::Vec3b>(y)[x], bg[x]);
+      std::nth_element(d.begin(), d.begin() + n / 2, d.end());
+      out[x] = d[n / 2];
+    }
+  });
+  std::vector<float> all(per_pixel.begin<float>(), per_pixel.end<float>());
+  std::nth_element(all.begin(), all.begin() + all.size() / 2, all.end());
+  model->sigma = all[all.size() / 2] / kChi3Median;
+  model->pixel_sigma = cv::Mat::zeros(rows, cols, CV_32FC1);
+}
+
 }  // namespace
 
 void BackgroundOptions::Check() const {
@@ -89,32 +154,34 @@ void BackgroundOptions::Check() const {
 BackgroundModel EstimateBackground(int num_frames, const std::function<cv::Mat(int)>& read_frame,
                                    const BackgroundOptions& options) {
   options.Check();
-  U4D_CHECK(num_frames >= 1, "EstimateBackground: expected at least one frame, found {}",
-            num_frames);
-  U4D_CHECK(static_cast<bool>(read_frame), "EstimateBackground: no frame reader given");
-  std::vector<cv::Mat> labs;
-  for (const int i : SampleIndices(num_frames, options.max_frames)) {
-    const cv::Mat frame = read_frame(i);
-    CheckFrame(frame, fmt::format("EstimateBackground: frame {}", i));
-    if (!labs.empty()) {
-      U4D_CHECK(frame.size() == labs[0].size(),
-                "EstimateBackground: frame {} is {}x{}, the first sampled frame is {}x{}", i,
-                frame.cols, frame.rows, labs[0].cols, labs[0].rows);
-    }
-    cv::Mat lab;
-    cv::cvtColor(frame, lab, cv::COLOR_BGR2Lab);
-    labs.push_back(lab);
-  }
+  const std::vector<cv::Mat> labs =
+      SampledLabs(num_frames, read_frame, options, "EstimateBackground");
   BackgroundModel model = MedianOfLab(labs);
-  if (options.envelope) {
-    // Per pixel, the sampled frames whose (cleaned) foreground covers it.
-    const InitOptions fg_options;
-    cv::Mat count = cv::Mat::zeros(model.lab.size(), CV_16UC1);
-    for (const cv::Mat& lab : labs)
-      cv::add(count, ForegroundFromLab(lab, model, fg_options) / 255, count, cv::noArray(),
-              CV_16UC1);
-    model.envelope = count >= options.envelope_min_frames;
+  if (options.envelope) model.envelope = Envelope(labs, model, options);
+  return model;
+}
+
+BackgroundModel BackgroundFromPlate(const std::vector<cv::Mat>& plate, int num_frames,
+                                    const std::function<cv::Mat(int)>& read_frame,
+                                    const BackgroundOptions& options) {
+  options.Check();
+  U4D_CHECK(!plate.empty(), "BackgroundFromPlate: no clean-plate frame given");
+  std::vector<cv::Mat> plate_labs;
+  for (size_t i = 0; i < plate.size(); ++i) {
+    CheckFrame(plate[i], fmt::format("BackgroundFromPlate: plate frame {}", i));
+    U4D_CHECK(plate[i].size() == plate[0].size(),
+              "BackgroundFromPlate: plate frame {} is {}x{}, the first {}x{}", i, plate[i].cols,
+              plate[i].rows, plate[0].cols, plate[0].rows);
+    plate_labs.push_back(ToLab(plate[i]));
   }
+  BackgroundModel model = MedianOfLab(plate_labs);
+  const std::vector<cv::Mat> labs =
+      SampledLabs(num_frames, read_frame, options, "BackgroundFromPlate");
+  U4D_CHECK(labs[0].size() == plate[0].size(),
+            "BackgroundFromPlate: the frames are {}x{}, the clean plate {}x{}", labs[0].cols,
+            labs[0].rows, plate[0].cols, plate[0].rows);
+  if (static_cast<int>(plate.size()) < kMinPlateFramesForNoise) TakeNoise(labs, &model);
+  if (options.envelope) model.envelope = Envelope(labs, model, options);
   return model;
 }
 

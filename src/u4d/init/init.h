@@ -142,6 +142,19 @@ BackgroundModel EstimateBackground(const std::vector<cv::Mat>& frames,
 BackgroundModel EstimateBackground(int num_frames, const std::function<cv::Mat(int)>& read_frame,
                                    const BackgroundOptions& options = {});
 
+// From a clean plate (io/clean_plate.h: the empty stage filmed from the
+// view, one picture or a few frames) instead of the capture's own frames, so
+// that people who stay in place are foreground: the model is the per-pixel
+// median of the plate frames. The noise levels come from the plate when it
+// has at least 3 frames; from fewer, the global level is the median
+// distance of the take's sampled frames to the plate (people are a minority
+// of the pixels) and there is no per-pixel level. The envelope (step 5) is
+// taken from the take's sampled frames as in EstimateBackground. Throws on
+// no plate frame, a non-BGR frame, or sizes that differ.
+BackgroundModel BackgroundFromPlate(const std::vector<cv::Mat>& plate, int num_frames,
+                                    const std::function<cv::Mat(int)>& read_frame,
+                                    const BackgroundOptions& options = {});
+
 struct InitOptions {
   // Foreground (step 2).
   double threshold_sigmas = 4.0;      // foreground: distance > this * noise level

@@ -15,6 +15,7 @@
 
 #include "u4d/init/init.h"
 #include "u4d/io/capture.h"
+#include "u4d/io/clean_plate.h"
 #include "u4d/io/frame_reader.h"
 #include "u4d/io/instance_mask.h"
 #include "u4d/io/layout.h"
@@ -81,6 +82,7 @@ const SynthFixture& Fixture() {
     o.fps = 2.25;
     o.script_seconds = 8.0;
     o.start_frame = 0;
+    o.clean_plate_frames = 5;
     return MakeFixture("init_test", o);
   }();
   return *fixture;
@@ -231,6 +233,34 @@ TEST(InitTest, StillSubjectsWithBackgroundFromTheCaptureAlone) {
   EXPECT_GE(iou[0][2], iou[0][1] - 0.005);
   EXPECT_GT(iou[0][2], 0.75);
   EXPECT_GT(iou[1][2], std::max(iou[1][0], iou[1][1]) + 0.2);
+}
+
+// The people stand still for most of the script, so a background from the
+// capture alone holds them; the clean plate (5 frames of the empty stage,
+// their own sensor noise) does not. The issue asks for a foreground IoU of
+// at least 0.95 against ground truth from a plate, with the default chain;
+// a single plate picture (noise from the take) must do as well.
+TEST(InitTest, StillPeopleAgainstACleanPlate) {
+  const SynthFixture& f = Fixture();
+  std::vector<BackgroundModel> plates, single;
+  for (int v = 0; v < f.capture.NumViews(); ++v) {
+    const std::vector<cv::Mat> plate = ReadCleanPlate(f.capture.root, f.capture.views[v].name,
+                                                      f.cameras[v].width, f.cameras[v].height);
+    ASSERT_EQ(plate.size(), 5u);
+    const auto read = [&](int t) { return f.images[v][t]; };
+    plates.push_back(BackgroundFromPlate(plate, f.capture.num_frames, read));
+    single.push_back(BackgroundFromPlate({plate[0]}, f.capture.num_frames, read));
+  }
+  const double from_plate = ForegroundIoUs(f, plates, {InitOptions()})[1];
+  const double from_one = ForegroundIoUs(f, single, {InitOptions()})[1];
+  const double from_take = ForegroundIoUs(f, f.self_backgrounds, {InitOptions()})[1];
+  std::printf(
+      "foreground IoU: clean plate (5 frames) %.3f, one plate picture %.3f, capture "
+      "alone %.3f\n",
+      from_plate, from_one, from_take);
+  EXPECT_GE(from_plate, 0.95);
+  EXPECT_GE(from_one, 0.95);
+  EXPECT_LT(single[0].sigma, 3.0);  // sensor noise of 1.5 grey levels, as above
 }
 
 TEST(InitTest, InstanceCountWhenPeopleApart) {

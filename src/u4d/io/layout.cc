@@ -19,6 +19,7 @@ fs::path Poses2d(const std::string& view, int frame) {
   return fs::path("poses2d") / view / (FrameName(frame) + ".json");
 }
 fs::path Poses3d(int frame) { return fs::path("poses3d") / (FrameName(frame) + ".json"); }
+fs::path CleanPlateDir() { return "background"; }
 
 fs::path GtInstances(const std::string& view, int frame) {
   return fs::path("gt/instances") / view / (FrameName(frame) + ".png");

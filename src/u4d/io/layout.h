@@ -17,6 +17,7 @@ fs::path Mask(const std::string& view, int frame);      // masks/<view>/<frame>.
 fs::path MaskInfo(const std::string& view, int frame);  // masks/<view>/<frame>.json
 fs::path Poses2d(const std::string& view, int frame);   // poses2d/<view>/<frame>.json
 fs::path Poses3d(int frame);                            // poses3d/<frame>.json
+fs::path CleanPlateDir();  // background/ (io/clean_plate.h: <view>.png|jpg or <view>/ frames)
 
 // Ground truth (relative to the capture root).
 fs::path GtInstances(const std::string& view, int frame);      // gt/instances/<view>/<frame>.png

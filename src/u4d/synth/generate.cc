@@ -111,6 +111,10 @@ void SynthOptions::Check() const {
   U4D_CHECK(script_seconds > 0 && std::isfinite(script_seconds),
             "synth: script_seconds must be positive, got {}", script_seconds);
   U4D_CHECK(png_compression >= 0 && png_compression <= 9, "synth: png_compression must be 0-9");
+  U4D_CHECK(clean_plate_frames >= 0, "synth: clean_plate_frames must be >= 0, got {}",
+            clean_plate_frames);
+  U4D_CHECK(clean_plate_frames == 0 || !rig.IsMoving(),
+            "synth: a clean plate needs a static rig (the '{}' rig moves)", preset);
   rig.Check();
   environment.Check();
   render.Check();
@@ -273,6 +277,24 @@ Capture MakeCaptureManifest(const SynthOptions& o,
   return c;
 }
 
+// The empty stage seen by each (static) camera: background/<view>/<k>.png.
+// The times lie after the take's, so that the sensor noise differs from any
+// frame of it.
+void WriteCleanPlates(const fs::path& dir, const std::vector<Camera>& cameras,
+                      const std::vector<std::string>& view_names,
+                      const std::vector<SceneObject>& statics, const SynthOptions& options) {
+  const std::vector<StaticLayer> layers = RenderStaticLayers(cameras, statics, options.render);
+  SceneFrame empty;
+  empty.statics = statics;
+  for (int k = 0; k < options.clean_plate_frames; ++k) {
+    empty.time = (options.num_frames + 1000 + k) / options.fps;
+    const std::vector<RenderedView> views = RenderViews(cameras, empty, options.render, &layers);
+    for (size_t v = 0; v < views.size(); ++v)
+      WritePng(dir / layout::CleanPlateDir() / view_names[v] / (layout::FrameName(k) + ".png"),
+               views[v].color, options.png_compression);
+  }
+}
+
 }  // namespace
 
 SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& dir,
@@ -429,6 +451,8 @@ SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& 
                       {{"note", "pairs of GT ids whose surfaces come within distance metres"},
                        {"distance", kContactDistance},
                        {"frames", contacts}});
+  if (options.clean_plate_frames > 0)
+    WriteCleanPlates(dir, cameras[0], view_names, statics, options);
   // The manifest last: a capture whose capture.json exists is complete.
   WriteCapture(capture, dir);
   summary.seconds = total_timer.Seconds();

@@ -32,11 +32,15 @@ struct SynthOptions {
   // on the first handshake (or starts at 0 when there is none).
   double script_seconds = 6.0;
   int start_frame = -1;
-  double fps = 25.0;               // frames per second
-  int num_people = 3;              // meetup only: people in the scene (>= 3)
-  uint64_t seed = 1;               // seeds people, textures, noise and degradation
-  fs::path mocap_bvh;              // meetup: CMU clip driving one person (required there)
-  bool write_meshes = true;        // write gt/meshes/<id>/<frame>.ply
+  double fps = 25.0;         // frames per second
+  int num_people = 3;        // meetup only: people in the scene (>= 3)
+  uint64_t seed = 1;         // seeds people, textures, noise and degradation
+  fs::path mocap_bvh;        // meetup: CMU clip driving one person (required there)
+  bool write_meshes = true;  // write gt/meshes/<id>/<frame>.ply
+  // Frames of the empty stage written as each view's clean plate
+  // (background/<view>/<frame>.png, io/clean_plate.h), with their own sensor
+  // noise; 0 = none. Static rigs only.
+  int clean_plate_frames = 0;
   int png_compression = 1;         // 0-9; low is fast, high is small
   RigOptions rig;                  // cameras (num_views, resolution, moving)
   EnvironmentOptions environment;  // floor and background
