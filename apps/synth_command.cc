@@ -26,6 +26,7 @@ struct SynthArgs {
   std::string captured_meshes;
   bool no_meshes = false;
   int clean_plate = 0;
+  bool still = false;
   int start_frame = -1;
 };
 
@@ -107,6 +108,7 @@ Command MakeSynthCommand() {
             app.add_option("--clean-plate", a->clean_plate,
                            "frames of the empty stage to write as clean plates (background/)")
                 ->check(CLI::NonNegativeNumber);
+            app.add_flag("--still", a->still, "the people stand still (the first frame's pose)");
             app.add_option("--start-frame", a->start_frame,
                            "first script frame of the capture (-1: the window centred on the "
                            "first handshake)")
@@ -118,6 +120,7 @@ Command MakeSynthCommand() {
                                      a->seed, a->mocap, a->degrade);
             o.write_meshes = !a->no_meshes;
             o.clean_plate_frames = a->clean_plate;
+            o.still_people = a->still;
             if (!a->captured_meshes.empty()) o.captured_meshes = a->captured_meshes;
             o.start_frame = a->start_frame;
             PrintSynthSummary(synth::WriteSyntheticCapture(o, a->out, /*progress=*/true), a->out);

@@ -81,8 +81,8 @@ void InitOptions::Check() const {
             group_radius_px);
   U4D_CHECK(box_min_coverage >= 0 && box_min_coverage <= 1,
             "InitOptions.box_min_coverage must be in [0, 1], found {}", box_min_coverage);
-  U4D_CHECK(grabcut_box_iterations >= 0,
-            "InitOptions.grabcut_box_iterations must be >= 0, found {}", grabcut_box_iterations);
+  U4D_CHECK(grabcut_box_iterations >= 1,
+            "InitOptions.grabcut_box_iterations must be >= 1, found {}", grabcut_box_iterations);
   U4D_CHECK(still_grabcut_iterations >= 0,
             "InitOptions.still_grabcut_iterations must be >= 0, found {}",
             still_grabcut_iterations);

@@ -40,23 +40,21 @@
 //
 // 4. People instances. Connected components of the foreground, dilated by
 //    group_radius_px (fragments of one person stay together), are the
-//    instances. Optionally (grabcut_box_iterations > 0, off by default: on
-//    the synthetic rig HOG's false boxes lower the IoU, docs/init.md), HOG
-//    boxes with little foreground are filled by GrabCut before the
-//    cross-view check (AddDetectedPeople), for people who stand still and
-//    are thus in the background model. OpenCV's HOG people
-//    detector (Dalal-Triggs, HOGDescriptor::getDefaultPeopleDetector, 64x128 windows; the image is
-//    upscaled so that people of min_person_height_px fit the window) gives
-//    boxes: a component holding two or more boxes whose centres are apart
-//    horizontally is split between them (each pixel goes to the box whose
-//    centre column is nearest, among the boxes containing it when any does).
-//    Without detections, a component is split at a deep valley of its column
-//    profile (people standing side by side touching with an arm). With
-//    require_detection, components no box overlaps are dropped. Optionally
-//    each instance is refined by cv::grabCut seeded from the mask (sure
-//    foreground = eroded mask, probable foreground = the mask's convex hull,
-//    probable background = a ring around the hull, background elsewhere in
-//    its box and on other instances).
+//    instances. HOG boxes with little foreground are filled by GrabCut
+//    before the cross-view check (AddDetectedPeople), for people who stand
+//    still and are thus in the background model: by default (box_fill
+//    kEmptyViews) only in views where the background leaves less foreground
+//    than one instance (min_instance_fraction of the image), since where it finds people HOG's
+//    false boxes lower the IoU (docs/init.md); kAlways in every view, kNever not. OpenCV's HOG
+//    people detector (Dalal-Triggs, HOGDescriptor::getDefaultPeopleDetector, 64x128 windows; the
+//    image is upscaled so that people of min_person_height_px fit the window) gives boxes: a
+//    component holding two or more boxes whose centres are apart horizontally is split between them
+//    (each pixel goes to the box whose centre column is nearest, among the boxes containing it when
+//    any does). Without detections, a component is split at a deep valley of its column profile
+//    (people standing side by side touching with an arm). With require_detection, components no box
+//    overlaps are dropped. Optionally each instance is refined by cv::grabCut seeded from the mask
+//    (sure foreground = eroded mask, probable foreground = the mask's convex hull, probable
+//    background = a ring around the hull, background elsewhere in its box and on other instances).
 //
 // 5. Subjects who stay in place (on by default; docs/init.md). A median
 //    background contains a subject who stays in place for most of the
@@ -178,19 +176,22 @@ struct InitOptions {
   double min_consistent_fraction = 0.3;  // a component is kept above this consistent share
   bool carve_pixels = false;             // also drop inconsistent pixels in kept components
   // People instances (step 4).
-  bool use_hog = true;                  // split/confirm components with HOG people boxes
-  double hog_threshold = 0.0;           // HOG SVM hit threshold (higher: fewer boxes)
-  int min_person_height_px = 96;        // upscale so that people this tall fit 128 px windows
-  int hog_max_side = 800;               // longest side at which HOG runs (downscale above)
-  bool require_detection = false;       // drop components with no HOG box
-  int group_radius_px = 0;              // fragments closer than this are one instance; 0 = h/100
-  double box_min_coverage = 0.25;       // HOG boxes with less foreground get GrabCut (below)
-  int grabcut_box_iterations = 0;       // GrabCut iterations in such boxes; 0 = off (see docs)
-  bool split_by_profile = true;         // split wide components at column-profile valleys
-  double profile_valley_ratio = 0.3;    // valley < this * the smaller neighbouring peak
-  double min_instance_fraction = 5e-4;  // instances smaller than this * area are dropped
-  int grabcut_iterations = 0;           // cv::grabCut iterations per instance; 0 = off
-  int grabcut_max_side = 200;           // instance box is downscaled to this side for GrabCut
+  bool use_hog = true;             // split/confirm components with HOG people boxes
+  double hog_threshold = 0.0;      // HOG SVM hit threshold (higher: fewer boxes)
+  int min_person_height_px = 96;   // upscale so that people this tall fit 128 px windows
+  int hog_max_side = 800;          // longest side at which HOG runs (downscale above)
+  bool require_detection = false;  // drop components with no HOG box
+  int group_radius_px = 0;         // fragments closer than this are one instance; 0 = h/100
+  double box_min_coverage = 0.25;  // HOG boxes with less foreground get GrabCut (below)
+  // Where HOG boxes with little foreground get GrabCut (AddDetectedPeople).
+  enum class BoxFill { kNever, kEmptyViews, kAlways };
+  BoxFill box_fill = BoxFill::kEmptyViews;  // kEmptyViews: views with < 1 instance of foreground
+  int grabcut_box_iterations = 3;           // GrabCut iterations in such boxes (>= 1)
+  bool split_by_profile = true;             // split wide components at column-profile valleys
+  double profile_valley_ratio = 0.3;        // valley < this * the smaller neighbouring peak
+  double min_instance_fraction = 5e-4;      // instances smaller than this * area are dropped
+  int grabcut_iterations = 0;               // cv::grabCut iterations per instance; 0 = off
+  int grabcut_max_side = 200;               // instance box is downscaled to this side for GrabCut
   // Still subjects (step 5, FillStillSubjects; needs BackgroundModel::envelope).
   int still_grabcut_iterations = 3;  // GrabCut iterations in the envelope's hull; 0 = off
   double envelope_dilation = 0.02;   // envelope dilation before its hull (x image height)
@@ -245,11 +246,16 @@ struct PersonBox {
 };
 std::vector<PersonBox> DetectPeople(const cv::Mat& image_bgr, const InitOptions& options = {});
 
+// Box fill names: "never", "empty-views", "always" (throws on another).
+InitOptions::BoxFill BoxFillFromString(const std::string& name);
+
 // Step 4a: the foreground plus, in every HOG box whose foreground covers
 // less than box_min_coverage of it (a person standing still is part of the
 // background), what cv::grabCut finds in the box: probable foreground in its
 // central half and on the existing foreground, probable background in the
 // rest of the box, background in a margin around it. Cleaned as step 2.
+// Only as box_fill says: never, always, or (kEmptyViews) when `foreground`
+// holds less than min_instance_fraction of the image.
 cv::Mat AddDetectedPeople(const cv::Mat& image_bgr, const cv::Mat& foreground,
                           const std::vector<PersonBox>& boxes, const InitOptions& options = {});
 

@@ -93,8 +93,7 @@ int main(int argc, char** argv) {
     InitOptions options;
     // Environment overrides for experiments (docs/init.md).
     if (const char* g = std::getenv("U4D_INIT_GRABCUT")) options.grabcut_iterations = std::atoi(g);
-    if (const char* g = std::getenv("U4D_INIT_BOX_GRABCUT"))
-      options.grabcut_box_iterations = std::atoi(g);
+    if (const char* g = std::getenv("U4D_INIT_BOX_FILL")) options.box_fill = BoxFillFromString(g);
     if (const char* g = std::getenv("U4D_INIT_STILL"))
       options.still_grabcut_iterations = std::atoi(g);
     if (const char* g = std::getenv("U4D_INIT_CARVE_STILL"))

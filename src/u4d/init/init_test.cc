@@ -124,7 +124,7 @@ TEST(InitTest, ForegroundIoUAgainstGroundTruth) {
   InitOptions raw;
   raw.cross_view = false;
   InitOptions box;  // with GrabCut in weakly covered HOG boxes (off by default)
-  box.grabcut_box_iterations = 3;
+  box.box_fill = InitOptions::BoxFill::kAlways;
   for (int t = 0; t < f.capture.num_frames; t += 5) {
     std::vector<cv::Mat> images(nv);
     for (int v = 0; v < nv; ++v) images[v] = f.images[v][t];
@@ -261,6 +261,29 @@ TEST(InitTest, StillPeopleAgainstACleanPlate) {
   EXPECT_GE(from_plate, 0.95);
   EXPECT_GE(from_one, 0.95);
   EXPECT_LT(single[0].sigma, 3.0);  // sensor noise of 1.5 grey levels, as above
+}
+
+// People who never move: a background from the capture's own frames holds
+// them entirely, so background subtraction (and step 5, which needs some
+// motion) finds nothing. The default box fill (GrabCut in HOG boxes, in
+// views the background leaves empty) must find a clear part of them (a
+// quarter of the union) without a plate. The issue asks for 0.85; that is
+// not reached: OpenCV's HOG finds one of the two people per view here (at
+// 320x240 at most one in two views), so the test holds the gain, not the goal.
+TEST(InitTest, StillPeopleWithoutAPlateFoundInHogBoxes) {
+  synth::SynthOptions o = synth::SmallHandshakeOptions(4, 640, 480, 6);
+  o.still_people = true;
+  o.seed = 7;
+  static const SynthFixture* still = MakeFixture("init_still_test", o);
+  InitOptions never;
+  never.box_fill = InitOptions::BoxFill::kNever;
+  const std::vector<double> iou = ForegroundIoUs(*still, still->self_backgrounds, {never, {}});
+  std::printf(
+      "still people, background from the capture alone: IoU without box fill %.3f, "
+      "default (box fill in empty views) %.3f\n",
+      iou[1], iou[2]);
+  EXPECT_LT(iou[1], 0.1);  // nothing to subtract: the people are the background
+  EXPECT_GT(iou[2], 0.25);
 }
 
 TEST(InitTest, InstanceCountWhenPeopleApart) {

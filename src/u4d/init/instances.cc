@@ -159,12 +159,23 @@ std::vector<PersonBox> DetectPeople(const cv::Mat& image_bgr, const InitOptions&
   return out;
 }
 
+InitOptions::BoxFill BoxFillFromString(const std::string& name) {
+  if (name == "never") return InitOptions::BoxFill::kNever;
+  if (name == "empty-views") return InitOptions::BoxFill::kEmptyViews;
+  U4D_CHECK(name == "always", "unknown box fill '{}' (known: never, empty-views, always)", name);
+  return InitOptions::BoxFill::kAlways;
+}
+
 cv::Mat AddDetectedPeople(const cv::Mat& image_bgr, const cv::Mat& foreground,
                           const std::vector<PersonBox>& boxes, const InitOptions& options) {
   options.Check();
   CheckImageAndForeground("AddDetectedPeople", image_bgr, foreground);
   cv::Mat out = foreground.clone();
-  if (options.grabcut_box_iterations <= 0) return out;
+  using BoxFill = InitOptions::BoxFill;
+  if (options.box_fill == BoxFill::kNever) return out;
+  const double least_instance = options.min_instance_fraction * foreground.total();
+  if (options.box_fill == BoxFill::kEmptyViews && cv::countNonZero(foreground) >= least_instance)
+    return out;
   const cv::Rect image_rect(0, 0, image_bgr.cols, image_bgr.rows);
   for (const PersonBox& b : boxes) {
     const double coverage = static_cast<double>(cv::countNonZero(foreground(b.box))) / b.box.area();

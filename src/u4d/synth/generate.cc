@@ -325,10 +325,12 @@ SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& 
 
   auto pose_frame = [&](int f) {
     SceneFrame frame;
-    PosePeople(script, start + f, &frame);
+    const int g = options.still_people ? 0 : f;
+    PosePeople(script, start + g, &frame);
     for (const CapturedPerformer& c : captured)
       frame.people.push_back(
-          PoseCapturedPerformer(c, f, static_cast<int>(frame.people.size()) + 1));
+          PoseCapturedPerformer(c, g, static_cast<int>(frame.people.size()) + 1));
+    frame.time = FrameTime(script, start + f);  // still people: the sensor noise still changes
     frame.statics = statics;
     return frame;
   };

@@ -41,6 +41,9 @@ struct SynthOptions {
   // (background/<view>/<frame>.png, io/clean_plate.h), with their own sensor
   // noise; 0 = none. Static rigs only.
   int clean_plate_frames = 0;
+  // Every frame shows the people as in the window's first frame: people who
+  // stand entirely still (a background from the capture's frames holds them).
+  bool still_people = false;
   int png_compression = 1;         // 0-9; low is fast, high is small
   RigOptions rig;                  // cameras (num_views, resolution, moving)
   EnvironmentOptions environment;  // floor and background
