@@ -3,9 +3,11 @@
 #include <memory>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <CLI/CLI.hpp>
 
 #include "apps/commands.h"
+#include "u4d/init/init.h"
 #include "u4d/joint/parameters.h"
 #include "u4d/pipeline/pipeline.h"
 #include "u4d/util/file.h"
@@ -19,6 +21,7 @@ struct RunArgs {
   std::string masks = "auto";
   std::string poses = "auto";
   std::string config;  // JSON with "weights" and/or "terms" overrides
+  std::string box_fill = "empty-views";
   RunOptions options;
 };
 
@@ -26,6 +29,7 @@ int Run(RunArgs& a) {
   RunOptions& o = a.options;
   o.masks = MaskSourceFromString(a.masks);
   o.poses = PoseSourceFromString(a.poses);
+  o.init.box_fill = BoxFillFromString(a.box_fill);
   if (!a.config.empty()) {
     // Weights from a file replace the paper's table.
     const nlohmann::json j = ReadJsonFile(a.config);
@@ -37,6 +41,9 @@ int Run(RunArgs& a) {
   const RunResult r = RunPipeline(a.capture, a.out, o);
   fmt::print("\n{} frames, {} views, {} objects, {} key-frames, {} segments ({} done earlier)\n",
              r.frames, r.views, r.objects, r.keyframes, r.segments, r.segments_skipped);
+  if (!r.empty_frames.empty())
+    fmt::print("frames with no object in any view (left empty): {}\n",
+               fmt::join(r.empty_frames, ", "));
   fmt::print("inputs used: masks {}, poses {}\n\n{}", r.log.masks, r.log.poses,
              r.log.FormatTable());
   fmt::print("\nwrote the 4D scene to {} (view it with `u4d view {}`)\n", a.out, a.out);
@@ -86,6 +93,12 @@ Command MakeRunCommand() {
             app.add_flag("!--no-resume", o.resume, "recompute everything in the output directory");
             app.add_flag("!--no-eval", o.evaluate, "skip eval.json even with ground truth");
             app.add_flag("!--no-progress", o.progress, "no progress bars");
+            app.add_option("--box-fill", a->box_fill,
+                           "unsupervised masks: GrabCut in HOG people boxes the background "
+                           "leaves empty: never, empty-views, always")
+                ->capture_default_str();
+            app.add_flag("--allow-empty", o.allow_empty,
+                         "succeed even when no object is found in any frame");
           },
           [=] { return Run(*a); }};
 }

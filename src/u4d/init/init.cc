@@ -1,5 +1,6 @@
 // InitOptions and the whole unsupervised chain (init.h).
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include <tbb/parallel_for.h>
@@ -108,6 +109,8 @@ void InitOptions::Check() const {
             "InitOptions.min_lone_height_m must be in [min_column_height_m, min_person_height_m] "
             "= [{}, {}], found {}",
             min_column_height_m, min_person_height_m, min_lone_height_m);
+  U4D_CHECK(previous_radius_m >= 0 && std::isfinite(previous_radius_m),
+            "InitOptions.previous_radius_m must be finite and >= 0, found {}", previous_radius_m);
   U4D_CHECK(min_person_height_m >= min_column_height_m,
             "InitOptions.min_person_height_m must be >= min_column_height_m ({}), found {}",
             min_column_height_m, min_person_height_m);

@@ -212,6 +212,8 @@ struct InitOptions {
                                           // the rig centre
   double min_column_height_m = 0.3;       // lower columns are floor, shadow, clutter (m)
   double min_person_height_m = 1.0;       // a person's highest column reaches this (m)
+  double previous_radius_m = 0.3;         // a previous person's position holds a candidate
+                                          // within this (m; SeparatePeopleOnGround)
   double min_lone_height_m = 0.6;         // a lower region touching none that tall is a person
                                           // when it reaches this (m)
   double person_smoothing_m = 0.1;        // Gaussian sigma on the height map (m)
@@ -333,17 +335,23 @@ struct OccupancyMap {
   cv::Mat height;                                 // CV_32FC1 cells x cells: occupied m per column
   cv::Mat people;                                 // CV_16UC1: person id per column (0 = none)
   int num_people = 0;
-  std::vector<double> exclusive_share;  // per id (index 0 unused): best view's share of
-                                        // the person's rays that cross no other person
+  std::vector<double> exclusive_share;     // per id (index 0 unused): best view's share of
+                                           // the person's rays that cross no other person
+  std::vector<Eigen::Vector3d> positions;  // per id (index 0 unused): height-weighted ground
+                                           // position (world), for the next frame
 };
 // `instances`: CV_16UC1 per view at its camera's size (0 = background; one
 // id per view for a plain foreground mask). Returns CV_16UC1 person ids per
-// view; `map` (optional) receives the grid. Throws on a wrong type or size,
-// fewer than 2 views, or cameras that all sit at one point.
-std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
-                                            const std::vector<cv::Mat>& instances,
-                                            const InitOptions& options = {},
-                                            OccupancyMap* map = nullptr);
+// view; `map` (optional) receives the grid. `previous_people` (optional):
+// the previous frame's people (OccupancyMap::positions, world); a region of
+// the map that holds two or more of them (within previous_radius_m) is split
+// between them, each column to the nearest, so that people who touch stay
+// apart when they were apart before. Throws on a wrong type or size, fewer
+// than 2 views, or cameras that all sit at one point.
+std::vector<cv::Mat> SeparatePeopleOnGround(
+    const std::vector<Camera>& cameras, const std::vector<cv::Mat>& instances,
+    const InitOptions& options = {}, OccupancyMap* map = nullptr,
+    const std::vector<Eigen::Vector3d>& previous_people = {});
 // Whether UnsupervisedInstanceMasks runs step 6 with this many calibrated
 // cameras (its ids are then alike across views).
 bool UsesGroundOccupancy(const InitOptions& options, int num_cameras);

@@ -245,6 +245,75 @@ cv::Mat CandidatePeople(const std::vector<uint8_t>& occupied, const InitOptions&
   return person;
 }
 
+// The ground cell (fractional a, b indices) under world point x.
+Eigen::Vector2d GroundCell(const OccupancyMap& m, const Eigen::Vector3d& x) {
+  const Eigen::Vector3d d = x - m.origin;
+  return {d.dot(m.axis_a) / m.cell_m, d.dot(m.axis_b) / m.cell_m};
+}
+
+// The candidate at or nearest (within `radius` cells) the column under
+// `cell`; 0 for none.
+int CandidateNear(const cv::Mat& person, const Eigen::Vector2d& cell, int radius) {
+  const int n = person.rows, ci = static_cast<int>(std::floor(cell.x())),
+            cj = static_cast<int>(std::floor(cell.y()));
+  int best = 0, best_d = radius * radius + 1;
+  for (int j = std::max(0, cj - radius); j <= std::min(n - 1, cj + radius); ++j)
+    for (int i = std::max(0, ci - radius); i <= std::min(n - 1, ci + radius); ++i) {
+      const int id = person.at<uint16_t>(j, i), d = (i - ci) * (i - ci) + (j - cj) * (j - cj);
+      if (id && d < best_d) best = id, best_d = d;
+    }
+  return best;
+}
+
+// Candidates holding (within previous_radius_m) the ground positions of two
+// or more of the previous frame's people are split between them, each column
+// to the nearest of those positions: people who touch merge on the map, but
+// not in time. Returns the new number of candidates.
+int SplitByPrevious(const std::vector<Eigen::Vector3d>& previous, const OccupancyMap& m,
+                    const InitOptions& options, cv::Mat* person, int candidates) {
+  const int radius = static_cast<int>(std::ceil(options.previous_radius_m / m.cell_m));
+  std::vector<std::vector<Eigen::Vector2d>> held(candidates + 1);
+  for (const Eigen::Vector3d& p : previous) {
+    const Eigen::Vector2d cell = GroundCell(m, p);
+    if (const int id = CandidateNear(*person, cell, radius)) held[id].push_back(cell);
+  }
+  std::vector<std::vector<int>> parts(candidates + 1);
+  int next = candidates;
+  for (int id = 1; id <= candidates; ++id)
+    if (held[id].size() >= 2) {
+      parts[id].push_back(id);
+      for (size_t k = 1; k < held[id].size(); ++k) parts[id].push_back(++next);
+    }
+  for (int j = 0; j < person->rows; ++j)
+    for (int i = 0; i < person->cols; ++i) {
+      uint16_t& id = person->at<uint16_t>(j, i);
+      if (parts[id].empty()) continue;
+      const Eigen::Vector2d c(i + 0.5, j + 0.5);
+      size_t nearest = 0;
+      for (size_t k = 1; k < held[id].size(); ++k)
+        if ((held[id][k] - c).squaredNorm() < (held[id][nearest] - c).squaredNorm()) nearest = k;
+      id = static_cast<uint16_t>(parts[id][nearest]);
+    }
+  return next;
+}
+
+// Per person (index 0 unused), the height-weighted mean of its columns'
+// ground positions (world, on the grid's floor).
+std::vector<Eigen::Vector3d> PeoplePositions(const OccupancyMap& m) {
+  std::vector<Eigen::Vector3d> sum(m.num_people + 1, Eigen::Vector3d::Zero());
+  std::vector<double> weight(m.num_people + 1, 0.0);
+  for (int j = 0; j < m.cells; ++j)
+    for (int i = 0; i < m.cells; ++i)
+      if (const int id = m.people.at<uint16_t>(j, i)) {
+        const double h = m.height.at<float>(j, i);
+        sum[id] += h * (m.origin + m.cell_m * ((i + 0.5) * m.axis_a + (j + 0.5) * m.axis_b));
+        weight[id] += h;
+      }
+  for (int id = 1; id <= m.num_people; ++id)
+    if (weight[id] > 0) sum[id] /= weight[id];
+  return sum;
+}
+
 // A reduced-resolution foreground pixel's ray: the candidates whose occupied
 // voxels it crosses, nearest first.
 struct Ray {
@@ -473,7 +542,8 @@ Eigen::Vector3d RigUpDirection(const std::vector<Camera>& cameras) {
 
 std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
                                             const std::vector<cv::Mat>& instances,
-                                            const InitOptions& options, OccupancyMap* map) {
+                                            const InitOptions& options, OccupancyMap* map,
+                                            const std::vector<Eigen::Vector3d>& previous_people) {
   options.Check();
   const int nv = static_cast<int>(cameras.size());
   U4D_CHECK(nv >= 2, "SeparatePeopleOnGround: needs at least 2 views, found {}", nv);
@@ -497,7 +567,8 @@ std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
       ReduceMasks(cameras, masks, options.occupancy_max_side, options.consistency_dilation_px);
   const std::vector<uint8_t> occupied = OccupiedVoxels(m, reduced, options);
   int candidates = 0;
-  const cv::Mat person = CandidatePeople(occupied, options, &m, &candidates);
+  cv::Mat person = CandidatePeople(occupied, options, &m, &candidates);
+  candidates = SplitByPrevious(previous_people, m, options, &person, candidates);
   const std::vector<std::vector<Ray>> rays = CastRays(m, person, occupied, reduced);
   const std::vector<uint16_t> final_id = RemovePhantoms(rays, person, candidates, options, &m);
   std::vector<cv::Mat> out(nv);
@@ -505,6 +576,7 @@ std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
     out[v] = NameInstances(instances[v], rays[v], reduced.source[v].size(), final_id, m.num_people,
                            options);
   });
+  m.positions = PeoplePositions(m);
   if (map != nullptr) *map = std::move(m);
   return out;
 }

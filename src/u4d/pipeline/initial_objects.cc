@@ -28,11 +28,11 @@ cv::Mat Relabel(const cv::Mat& ids, const std::map<int, int>& new_id) {
 // Per-frame object k -> linked id, updating the linker.
 std::map<int, int> LinkObjects(const std::map<int, Eigen::Vector3d>& centroids,
                                ObjectLinker* linker) {
-  std::vector<std::tuple<double, int, int>> pairs;  // distance, object, previous id
+  std::vector<std::tuple<double, int, int>> pairs;  // distance, object, track id
   for (const auto& [k, c] : centroids)
-    for (const auto& [id, p] : linker->previous) {
-      const double d = (c - p).norm();
-      if (d <= linker->max_centroid_jump_m) pairs.emplace_back(d, k, id);
+    for (const auto& [id, track] : linker->tracks) {
+      const double d = (c - track.position).norm();
+      if (d <= linker->max_centroid_jump_m * (1 + track.missing)) pairs.emplace_back(d, k, id);
     }
   std::sort(pairs.begin(), pairs.end());
   std::map<int, int> link;
@@ -41,8 +41,9 @@ std::map<int, int> LinkObjects(const std::map<int, Eigen::Vector3d>& centroids,
     if (!link.count(k) && !taken.count(id)) link[k] = id, taken.insert(id);
   for (const auto& [k, c] : centroids)
     if (!link.count(k)) link[k] = linker->next_id++;
-  linker->previous.clear();
-  for (const auto& [k, c] : centroids) linker->previous[link[k]] = c;
+  for (auto it = linker->tracks.begin(); it != linker->tracks.end();)
+    it = ++it->second.missing > linker->max_missing_frames ? linker->tracks.erase(it) : ++it;
+  for (const auto& [k, c] : centroids) linker->tracks[link[k]] = {c, 0};
   return link;
 }
 
@@ -164,6 +165,32 @@ std::vector<SparsePoint> SilhouettePoints(const std::vector<Camera>& cameras,
     }
   }
   return points;
+}
+
+std::vector<cv::Mat> GroundPeopleFromDetections(const std::vector<Camera>& cameras,
+                                                const std::vector<cv::Mat>& masks,
+                                                const InitOptions& options,
+                                                std::vector<Eigen::Vector3d>* people) {
+  U4D_CHECK(cameras.size() == masks.size(), "GroundPeopleFromDetections: {} cameras but {} masks",
+            cameras.size(), masks.size());
+  std::vector<cv::Mat> ids(masks.size());
+  bool any = false;
+  for (size_t v = 0; v < masks.size(); ++v) {
+    if (masks[v].empty()) {
+      ids[v] = cv::Mat::zeros(cameras[v].height, cameras[v].width, CV_16UC1);
+    } else {
+      masks[v].convertTo(ids[v], CV_16U);
+      any = any || cv::countNonZero(ids[v]) > 0;
+    }
+  }
+  if (!any) return masks;  // nobody seen: the previous people are kept for the next frame
+  OccupancyMap map;
+  std::vector<cv::Mat> named = SeparatePeopleOnGround(cameras, ids, options, &map, *people);
+  people->assign(map.positions.begin() + std::min<size_t>(1, map.positions.size()),
+                 map.positions.end());
+  for (size_t v = 0; v < masks.size(); ++v)
+    if (masks[v].empty()) named[v] = cv::Mat();
+  return named;
 }
 
 FrameObjects ObjectsFromPoses(const std::vector<Camera>& cameras, const std::vector<cv::Mat>& masks,

@@ -22,9 +22,12 @@
 // object's pixels there go back to background. Masks whose ids are already
 // alike across views (init.h's step 6) skip the association: mask id k is
 // object k.
-// Identities through time: an object takes the id of the previous frame's
-// object whose sparse-point centroid is nearest, when within
-// `max_centroid_jump_m` (greedy, nearest pairs first); otherwise a new id.
+// Identities through time: an object takes the id of the nearest tracked
+// object (greedy, nearest pairs first) within max_centroid_jump_m per frame
+// since that object was last seen; otherwise a new id. A tracked object not
+// seen in a frame (missed everywhere, or merged with another person in every
+// view) keeps its id for max_missing_frames, so that it takes it back when it
+// reappears instead of becoming a new person.
 //
 // Files (io/layout.h): initial/masks/<view>/<frame>.png (16-bit ids, an
 // absent file = no mask in that view) and initial/objects/<frame>.json
@@ -42,6 +45,7 @@
 
 #include "u4d/features/object_regions.h"
 #include "u4d/features/sparse_points.h"
+#include "u4d/init/init.h"
 #include "u4d/io/poses.h"
 #include "u4d/joint/frame_setup.h"
 #include "u4d/util/file.h"
@@ -58,8 +62,13 @@ struct FrameObjects {
 
 // Identity state carried from frame to frame (no poses).
 struct ObjectLinker {
-  double max_centroid_jump_m = 0.5;  // farther centroids are different objects
-  std::map<int, Eigen::Vector3d> previous;
+  double max_centroid_jump_m = 0.5;  // farther centroids (per frame unseen) are different objects
+  int max_missing_frames = 25;       // an unseen object is forgotten after this many frames
+  struct Track {
+    Eigen::Vector3d position;  // world centroid when last seen
+    int missing = 0;           // frames since then
+  };
+  std::map<int, Track> tracks;  // object id -> track
   int next_id = 1;
 };
 
@@ -81,6 +90,21 @@ struct SilhouettePointOptions {
 std::vector<SparsePoint> SilhouettePoints(const std::vector<Camera>& cameras,
                                           const std::vector<cv::Mat>& masks,
                                           const SilhouettePointOptions& options = {});
+
+// Without poses: detector masks (ids local to each image; an empty Mat = no
+// mask file, nothing detected) named by the people of the frame's voxel hull
+// on the ground plane (init.h step 6, SeparatePeopleOnGround): the same id is
+// the same person in every view of the frame, an instance that merges two
+// people is split between them, and instances no person's hull explains
+// (false positives) are dropped. `people` holds the previous frame's people
+// (ground positions, world) on input and this frame's on output: a hull
+// region that holds two of the previous people is split between them, so
+// that people who touch stay two. Views without a mask stay empty. Ids are
+// not alike through time (ObjectLinker does that).
+std::vector<cv::Mat> GroundPeopleFromDetections(const std::vector<Camera>& cameras,
+                                                const std::vector<cv::Mat>& masks,
+                                                const InitOptions& options,
+                                                std::vector<Eigen::Vector3d>* people);
 
 // With poses: `masks[v]` detector ids (empty = none) -> object ids.
 FrameObjects ObjectsFromPoses(const std::vector<Camera>& cameras, const std::vector<cv::Mat>& masks,

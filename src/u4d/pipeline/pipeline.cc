@@ -19,6 +19,7 @@
 #include "u4d/eval/segment_drift.h"
 #include "u4d/fusion/labelled_ply.h"
 #include "u4d/io/capture.h"
+#include "u4d/io/clean_plate.h"
 #include "u4d/io/frame_reader.h"
 #include "u4d/io/image_io.h"
 #include "u4d/io/instance_mask.h"
@@ -160,6 +161,18 @@ std::vector<cv::Mat> ReadGivenMasks(Context& c, int frame) {
   return masks;
 }
 
+// View v's background model: from its clean plate when the capture has one,
+// else from the capture's own frames.
+BackgroundModel ViewBackground(Context& c, int v) {
+  const Camera& cam = c.cap.views[v].CameraAt(0);
+  const std::vector<cv::Mat> plate = ReadCleanPlate(c.cap.root, c.names[v], cam.width, cam.height);
+  const auto read = [&](int f) { return c.reader.Read(v, f); };
+  if (plate.empty()) return EstimateBackground(c.cap.num_frames, read, c.o.background);
+  fmt::print("[initial] view {}: background from its clean plate ({} frames)\n", c.names[v],
+             plate.size());
+  return BackgroundFromPlate(plate, c.cap.num_frames, read, c.o.background);
+}
+
 int ComputeInitialObjects(Context& c, const std::vector<std::vector<Pose3d>>& poses) {
   std::vector<BackgroundModel> backgrounds;
   if (c.masks == MaskSource::kUnsupervised) {
@@ -167,39 +180,58 @@ int ComputeInitialObjects(Context& c, const std::vector<std::vector<Pose3d>>& po
       U4D_CHECK(!c.cap.views[v].IsMoving(),
                 "view {} moves: unsupervised masks need static cameras (give masks/ instead)",
                 c.names[v]);
-      backgrounds.push_back(EstimateBackground(
-          c.cap.num_frames, [&](int f) { return c.reader.Read(v, f); }, c.o.background));
+      backgrounds.push_back(ViewBackground(c, v));
     }
   }
   ObjectLinker linker;
+  std::vector<Eigen::Vector3d> ground_people;  // the previous frame's, for given masks
   std::vector<int> empty_frames;
   Progress progress("initial", c.NumFrames(), c.o.progress);
   for (int k = 0; k < c.NumFrames(); ++k) {
     const int f = c.f0 + k;
     const std::vector<Camera> cams = c.Cameras(f);
     const std::vector<cv::Mat> images = ReadViews(c, f);
-    const std::vector<cv::Mat> masks =
+    const bool with_poses = c.poses != PoseSource::kNone;
+    // The ground-plane step (init.h step 6) names people alike in every
+    // view: unsupervised masks come from it, given masks go through it.
+    const bool ground = UsesGroundOccupancy(c.o.init, static_cast<int>(cams.size()));
+    std::vector<cv::Mat> masks =
         c.masks == MaskSource::kGiven
             ? ReadGivenMasks(c, f)
             : UnsupervisedInstanceMasks(cams, images, backgrounds, c.o.init);
+    if (c.masks == MaskSource::kGiven && !with_poses && ground)
+      masks = GroundPeopleFromDetections(cams, masks, c.o.init, &ground_people);
     const FrameObjects objects =
-        c.poses != PoseSource::kNone
+        with_poses
             ? ObjectsFromPoses(cams, masks, poses[k], c.o.frame_setup)
-            : ObjectsFromSparse(cams, images, masks, c.o.sparse, c.o.regions, &linker,
-                                c.masks == MaskSource::kUnsupervised &&
-                                    UsesGroundOccupancy(c.o.init, static_cast<int>(cams.size())));
+            : ObjectsFromSparse(cams, images, masks, c.o.sparse, c.o.regions, &linker, ground);
     WriteFrameObjects(c.out, c.names, f, objects);
     bool any = false;
     for (const cv::Mat& ids : objects.ids) any = any || (!ids.empty() && cv::countNonZero(ids) > 0);
     if (!any) empty_frames.push_back(f);
     progress.Tick();
   }
-  if (!empty_frames.empty())
-    fmt::print(
-        "[initial] warning: no object found in any view at {} of {} frames (first: {}); "
-        "those frames stay empty\n",
-        empty_frames.size(), c.NumFrames(), empty_frames.front());
+  c.log.empty_frames = empty_frames;
   return c.NumFrames();
+}
+
+// A run with no object in any frame fails (unless allowed) with what would
+// help; one with some empty frames warns. Called after the initial stage is
+// recorded, so that a rerun with allow_empty resumes from it.
+void CheckNotEmpty(const Context& c) {
+  const std::vector<int>& empty = c.log.empty_frames;
+  if (empty.empty()) return;
+  const bool all = static_cast<int>(empty.size()) == c.NumFrames();
+  U4D_CHECK(!all || c.o.allow_empty,
+            "{}: no object found in any view at any of the {} frames run (masks: {}). "
+            "Give initial masks (masks/<view>/<frame>.png, docs/formats.md) or 3D or 2D poses "
+            "(poses3d/, poses2d/); without them people are found only where they move against "
+            "the background of the capture's frames. --allow-empty accepts an empty scene.",
+            c.cap.root.string(), c.NumFrames(), ToString(c.masks));
+  fmt::print(
+      "[initial] warning: no object found in any view at {} of {} frames (first: {}); "
+      "those frames stay empty (run.json lists them)\n",
+      empty.size(), c.NumFrames(), empty.front());
 }
 
 // ---- temporal tracks ----
@@ -635,6 +667,7 @@ RunResult RunPipeline(const fs::path& capture_dir, const fs::path& scene_dir,
   });
   if (poses_done) poses = ReadScenePoses(c);
   RunStage(c, "initial", true, [&] { return ComputeInitialObjects(c, poses); });
+  CheckNotEmpty(c);
   std::vector<TemporalTrack> tracks;
   const bool tracks_done = c.log.StageDone("tracks");
   RunStage(c, "tracks", true, [&] {
@@ -720,6 +753,7 @@ RunResult RunPipeline(const fs::path& capture_dir, const fs::path& scene_dir,
   result.objects = static_cast<int>(ReadSceneIndex(scene_dir).objects.size());
   result.keyframes = static_cast<int>(selection.keyframes.size());
   result.segments = static_cast<int>(segments.size());
+  result.empty_frames = c.log.empty_frames;
   return result;
 }
 

@@ -24,12 +24,19 @@
 // written with other options is refused (u4d::Error) unless
 // RunOptions::resume is false, when everything is recomputed.
 //
+// Nothing found: when the initial stage finds no object in any view of any
+// frame, the run throws u4d::Error saying what would help (masks, poses),
+// after recording that stage, unless RunOptions::allow_empty. Frames left
+// empty in a run that found objects elsewhere are listed in run.json
+// ("empty_frames") and RunResult.
+//
 // Bad input: a missing or corrupt frame, mask or pose file throws u4d::Error
 // naming it; the segment being solved is then not recorded as done, and what
 // was finished before stays valid (run again to resume).
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "u4d/pipeline/run_log.h"
 #include "u4d/pipeline/run_options.h"
@@ -43,9 +50,10 @@ struct RunResult {
   int views = 0;
   int objects = 0;  // object ids seen
   int keyframes = 0;
-  int segments = 0;          // temporal segments
-  int segments_skipped = 0;  // already done by an earlier run
-  bool evaluated = false;    // eval.json written
+  int segments = 0;               // temporal segments
+  int segments_skipped = 0;       // already done by an earlier run
+  bool evaluated = false;         // eval.json written
+  std::vector<int> empty_frames;  // frames with no object in any view (they stay empty)
 };
 
 RunResult RunPipeline(const fs::path& capture_dir, const fs::path& scene_dir,

@@ -15,6 +15,7 @@
 #include "u4d/io/capture.h"
 #include "u4d/io/frame_reader.h"
 #include "u4d/io/image_io.h"
+#include "u4d/io/instance_mask.h"
 #include "u4d/io/layout.h"
 #include "u4d/io/scene_index.h"
 #include "u4d/synth/generate.h"
@@ -164,6 +165,11 @@ TEST(PipelineTest, RealisticWorldFromTheDetectorsMasksAlone) {
   EXPECT_GT(ours.instances->MeanClassIoU(), initial.instances->MeanClassIoU());
   EXPECT_GT(ours.instances->MeanInstanceIoU(), initial.instances->MeanInstanceIoU());
   EXPECT_EQ(id.matched_people, 2);
+  // One identity per person across views and time (issue 22): the detector
+  // numbers instances per image; the ground-plane step names them.
+  EXPECT_EQ(id.mean_ids_per_person, 1.0);
+  EXPECT_EQ(id.switches, 0);
+  EXPECT_EQ(id.cross_view_disagreements, 0);
   ASSERT_TRUE(id.with_meshes);
   EXPECT_EQ(id.no_mesh_frames, 0);
   fs::remove_all(capture);
@@ -367,6 +373,31 @@ TEST(PipelineTest, CorruptFrameAndMismatchedOptionsFailClearly) {
   test_util::ExpectErrorMentions([&] { RunPipeline(capture, scene3d, given3d); },
                                  {"poses3d", "--poses given3d"});
   EXPECT_FALSE(fs::exists(scene3d / "run.json"));
+}
+
+// A detector that found nobody in any view: the run fails with a message
+// that says what would help, after recording the initial stage; with
+// allow_empty the same directory resumes and succeeds with no object.
+TEST(PipelineTest, NothingFoundFailsUnlessAllowed) {
+  synth::SynthOptions so = synth::SmallHandshakeOptions(3, 160, 90, 2);
+  const fs::path capture = synth::WriteCaptureToTempDir("pipeline_empty", so);
+  const Capture cap = ReadCapture(capture);
+  for (const CaptureView& v : cap.views)
+    for (int f = 0; f < cap.num_frames; ++f)
+      WriteInstanceMask(capture / layout::Mask(v.name, f), capture / layout::MaskInfo(v.name, f),
+                        {cv::Mat::zeros(v.CameraAt(f).height, v.CameraAt(f).width, CV_16UC1), {}});
+  const fs::path scene = test_util::FreshTestDir("pipeline", "empty");
+  test_util::ExpectErrorMentions([&] { RunPipeline(capture, scene, FastOptions()); },
+                                 {capture.string(), "no object found", "masks", "--allow-empty"});
+  EXPECT_TRUE(ReadRunLog(scene).StageDone("initial"));
+  EXPECT_EQ(ReadRunLog(scene).empty_frames, (std::vector<int>{0, 1}));
+
+  RunOptions allow = FastOptions();
+  allow.allow_empty = true;
+  const RunResult run = RunPipeline(capture, scene, allow);
+  EXPECT_EQ(run.objects, 0);
+  EXPECT_EQ(run.empty_frames, (std::vector<int>{0, 1}));
+  fs::remove_all(capture);
 }
 
 }  // namespace

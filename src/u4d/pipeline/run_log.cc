@@ -72,7 +72,8 @@ void WriteRunLog(const fs::path& scene_dir, const RunLog& log) {
                                                           {"stages_done", log.stages_done},
                                                           {"segments_done", log.segments_done},
                                                           {"stages", stages},
-                                                          {"segment_parts", parts}});
+                                                          {"segment_parts", parts},
+                                                          {"empty_frames", log.empty_frames}});
 }
 
 RunLog ReadRunLog(const fs::path& scene_dir) {
@@ -100,6 +101,8 @@ RunLog ReadRunLog(const fs::path& scene_dir) {
       log.segment_parts.push_back(
           {JsonGet<std::string>(part, "name", ctx),
            JsonNumber(JsonGet<nlohmann::json>(part, "seconds", ctx), ctx, "seconds")});
+  if (j.contains("empty_frames"))
+    log.empty_frames = JsonGet<std::vector<int>>(j, "empty_frames", ctx);
   return log;
 }
 

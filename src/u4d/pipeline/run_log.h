@@ -4,7 +4,8 @@
 //   {"format": "u4d-run", "capture": "/path", "masks": "given", "poses": "from2d",
 //    "stages_done": ["poses", "initial", ...], "segments_done": [0, 1],
 //    "stages": [{"name": "joint", "seconds": 12.5, "peak_rss_mb": 820, "items": 48}],
-//    "segment_parts": [{"name": "solve", "seconds": 10.1}, ...]}
+//    "segment_parts": [{"name": "solve", "seconds": 10.1}, ...],
+//    "empty_frames": [3, 4]}
 //
 // segment_parts splits the "segments" stage's time (summed over its frames)
 // into its parts, in the order they first ran: "inputs" (reading the frames
@@ -12,7 +13,9 @@
 // views at once), "maps" (writing the per-view label, depth and flow maps),
 // "fusion" (one mesh per object), "scene_flow" (tracking the segment's
 // meshes to the next frame) and "animation" (writing the segment's glTF). It
-// is optional when read (runs written before it have none).
+// is optional when read (runs written before it have none), as is
+// empty_frames: the frames in which the initial stage found no object in any
+// view (they stay empty in the scene).
 //
 // A stage or segment is recorded only after every file it writes exists
 // (each file is itself written atomically), so a recorded one is complete.
@@ -46,6 +49,7 @@ struct RunLog {
   std::set<int> segments_done;
   std::vector<StageReport> stages;      // this run's stages, in order
   std::vector<PartTime> segment_parts;  // where the "segments" stage's time went
+  std::vector<int> empty_frames;        // frames with no object in any view (initial stage)
 
   bool StageDone(const std::string& name) const;
   void MarkStage(const std::string& name);  // appends once

@@ -55,6 +55,7 @@ struct RunOptions {
   bool resume = true;             // skip the segments an earlier run finished
   int threads = 0;                // views solved in parallel (0 = TBB's default)
   bool progress = true;           // progress bars on stderr
+  bool allow_empty = false;       // succeed even when no frame has an object (else u4d::Error)
 
   BackgroundOptions background;   // unsupervised masks: the background model
   InitOptions init;               // unsupervised masks: foreground, people, cross-view check
@@ -73,7 +74,7 @@ struct RunOptions {
   GltfOptions gltf;
 
   void Check() const;  // throws u4d::Error naming the bad field
-  // The options that change results (not threads/progress/resume), for
+  // The options that change results (not threads/progress/resume/allow_empty), for
   // params.json and the resume check.
   nlohmann::json ToJson() const;
 };
