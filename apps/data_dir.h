@@ -9,7 +9,9 @@
 namespace u4d::apps {
 
 // The meetup preset's CMU clip, shipped with u4d (data/mocap).
-inline fs::path DefaultMocapClip() { return ShippedDataFile(fs::path("mocap") / "scaled_131_02.bvh"); }
+inline fs::path DefaultMocapClip() {
+  return ShippedDataFile(fs::path("mocap") / "scaled_131_02.bvh");
+}
 
 // The captured mesh sequences of the realistic synthetic presets: real data
 // that is not shipped (../shared/data/captured_meshes or $U4D_DATA_DIR).

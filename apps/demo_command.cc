@@ -17,7 +17,8 @@ namespace u4d::apps {
 void PrintSynthSummary(const synth::SynthSummary& s, const std::string& dir);
 synth::SynthOptions SynthOptionsFromArgs(const std::string& preset, int frames, int views,
                                          int width, int height, int people, uint64_t seed,
-                                         const std::string& mocap, const std::string& captured_meshes,
+                                         const std::string& mocap,
+                                         const std::string& captured_meshes,
                                          const std::string& degrade);
 
 namespace {

@@ -46,7 +46,8 @@ void PrintSynthSummary(const synth::SynthSummary& s, const std::string& dir) {
 
 synth::SynthOptions SynthOptionsFromArgs(const std::string& preset, int frames, int views,
                                          int width, int height, int people, uint64_t seed,
-                                         const std::string& mocap, const std::string& captured_meshes,
+                                         const std::string& mocap,
+                                         const std::string& captured_meshes,
                                          const std::string& degrade) {
   synth::SynthOptions o = synth::SynthPreset(preset);
   o.seed = seed;
@@ -59,7 +60,8 @@ synth::SynthOptions SynthOptionsFromArgs(const std::string& preset, int frames, 
   if (people > 0) o.num_people = people;
   if (preset == "meetup") o.mocap_bvh = mocap.empty() ? DefaultMocapClip() : fs::path(mocap);
   if (!o.captured.empty())
-    o.captured_meshes = captured_meshes.empty() ? DefaultCapturedMeshes() : fs::path(captured_meshes);
+    o.captured_meshes =
+        captured_meshes.empty() ? DefaultCapturedMeshes() : fs::path(captured_meshes);
   if (degrade == "none") {
     o.masks = synth::MaskDegradeOptions::None();
     o.keypoints = synth::KeypointDegradeOptions::None();

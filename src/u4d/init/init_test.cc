@@ -23,6 +23,7 @@
 #include "u4d/synth/generate.h"
 #include "u4d/synth/render.h"
 #include "u4d/util/check.h"
+#include "u4d/util/data_dir.h"
 
 namespace u4d {
 namespace {
@@ -410,7 +411,7 @@ TEST(InitTest, CrossViewCheckRemovesInjectedBlob) {
 const SynthFixture& MeetupFixture() {
   static const SynthFixture* fixture = [] {
     synth::SynthOptions o = synth::SynthPreset("meetup");
-    o.mocap_bvh = fs::path(U4D_SHARED_DATA_DIR) / "mocap_cmu131" / "scaled_131_02.bvh";
+    o.mocap_bvh = ShippedDataFile(fs::path("mocap") / "scaled_131_02.bvh");
     o.rig.num_views = 8;
     o.rig.image_width = 320;
     o.rig.image_height = 240;

@@ -41,7 +41,8 @@ inline std::vector<fs::path> ShippedDataCandidates(const fs::path& relative) {
   std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
   if (!ec && !exe.empty())
-    candidates.push_back((exe.parent_path() / ".." / "share" / "u4d" / relative).lexically_normal());
+    candidates.push_back(
+        (exe.parent_path() / ".." / "share" / "u4d" / relative).lexically_normal());
   if (*U4D_SOURCE_DIR != '\0') candidates.push_back(fs::path(U4D_SOURCE_DIR) / "data" / relative);
   return candidates;
 }
@@ -54,9 +55,10 @@ inline fs::path ShippedDataFile(const fs::path& relative) {
     if (fs::exists(p)) return p;
     tried += (tried.empty() ? "" : ", ") + p.string();
   }
-  ThrowError(fmt::format("shipped data file {} not found (tried: {}); reinstall u4d or run it "
-                         "from its build tree beside the source checkout",
-                         relative.string(), tried.empty() ? "nothing" : tried));
+  ThrowError(
+      fmt::format("shipped data file {} not found (tried: {}); reinstall u4d or run it "
+                  "from its build tree beside the source checkout",
+                  relative.string(), tried.empty() ? "nothing" : tried));
 }
 
 }  // namespace u4d
