@@ -17,7 +17,9 @@ namespace u4d::apps {
 void PrintSynthSummary(const synth::SynthSummary& s, const std::string& dir);
 synth::SynthOptions SynthOptionsFromArgs(const std::string& preset, int frames, int views,
                                          int width, int height, int people, uint64_t seed,
-                                         const std::string& mocap, const std::string& degrade);
+                                         const std::string& mocap,
+                                         const std::string& captured_meshes,
+                                         const std::string& degrade);
 
 namespace {
 
@@ -51,7 +53,7 @@ Command MakeDemoCommand() {
             const fs::path scene = out / "scene";
             fmt::print("== 1/3 synthesise ({} preset)\n", a->preset);
             const synth::SynthOptions o = SynthOptionsFromArgs(
-                a->preset, a->frames, a->views, a->width, a->height, 0, a->seed, "", "preset");
+                a->preset, a->frames, a->views, a->width, a->height, 0, a->seed, "", "", "preset");
             PrintSynthSummary(synth::WriteSyntheticCapture(o, capture, /*progress=*/true),
                               capture.string());
 

@@ -46,7 +46,9 @@ void PrintSynthSummary(const synth::SynthSummary& s, const std::string& dir) {
 
 synth::SynthOptions SynthOptionsFromArgs(const std::string& preset, int frames, int views,
                                          int width, int height, int people, uint64_t seed,
-                                         const std::string& mocap, const std::string& degrade) {
+                                         const std::string& mocap,
+                                         const std::string& captured_meshes,
+                                         const std::string& degrade) {
   synth::SynthOptions o = synth::SynthPreset(preset);
   o.seed = seed;
   o.environment.seed = static_cast<uint32_t>(seed * 7919u + 17u);
@@ -57,7 +59,9 @@ synth::SynthOptions SynthOptionsFromArgs(const std::string& preset, int frames, 
   if (height > 0) o.rig.image_height = height;
   if (people > 0) o.num_people = people;
   if (preset == "meetup") o.mocap_bvh = mocap.empty() ? DefaultMocapClip() : fs::path(mocap);
-  if (!o.captured.empty()) o.captured_meshes = DefaultCapturedMeshes();
+  if (!o.captured.empty())
+    o.captured_meshes =
+        captured_meshes.empty() ? DefaultCapturedMeshes() : fs::path(captured_meshes);
   if (degrade == "none") {
     o.masks = synth::MaskDegradeOptions::None();
     o.keypoints = synth::KeypointDegradeOptions::None();
@@ -96,7 +100,7 @@ Command MakeSynthCommand() {
             app.add_option("--people", a->people, "meetup: number of people (>= 3)");
             app.add_option("--seed", a->seed, "random seed")->capture_default_str();
             app.add_option("--mocap", a->mocap,
-                           "meetup: BVH clip (default: CMU 131 in the data dir)");
+                           "meetup: BVH clip (default: the CMU 131 walk shipped in data/mocap)");
             app.add_option("--degrade", a->degrade,
                            "initial-input errors: preset (the preset's own) | none | mild | "
                            "default | realistic | harsh")
@@ -117,11 +121,10 @@ Command MakeSynthCommand() {
           [=] {
             synth::SynthOptions o =
                 SynthOptionsFromArgs(a->preset, a->frames, a->views, a->width, a->height, a->people,
-                                     a->seed, a->mocap, a->degrade);
+                                     a->seed, a->mocap, a->captured_meshes, a->degrade);
             o.write_meshes = !a->no_meshes;
             o.clean_plate_frames = a->clean_plate;
             o.still_people = a->still;
-            if (!a->captured_meshes.empty()) o.captured_meshes = a->captured_meshes;
             o.start_frame = a->start_frame;
             PrintSynthSummary(synth::WriteSyntheticCapture(o, a->out, /*progress=*/true), a->out);
             return 0;

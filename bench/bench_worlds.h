@@ -14,10 +14,9 @@ namespace u4d::bench {
 
 using ::u4d::DataDir;
 
-// Whether `preset` can be synthesised here (the meetup needs the CMU clip, the
-// realistic presets the captured meshes of the shared data).
+// Whether `preset` can be synthesised here (the realistic presets need the
+// captured meshes of the shared data; the meetup's CMU clip is shipped).
 inline bool WorldAvailable(const std::string& preset) {
-  if (preset == "meetup") return fs::exists(DataDir() / "mocap_cmu131" / "scaled_131_02.bvh");
   if (preset.rfind("realistic", 0) == 0) return fs::is_directory(DataDir() / "captured_meshes");
   return true;
 }
@@ -33,7 +32,7 @@ inline synth::SynthOptions World(const std::string& preset, int views, int width
   o.rig.image_height = height;
   o.num_frames = frames;
   o.write_meshes = false;
-  if (preset == "meetup") o.mocap_bvh = DataDir() / "mocap_cmu131" / "scaled_131_02.bvh";
+  if (preset == "meetup") o.mocap_bvh = ShippedDataFile(fs::path("mocap") / "scaled_131_02.bvh");
   if (!o.captured.empty()) o.captured_meshes = DataDir() / "captured_meshes";
   return o;
 }

@@ -11,6 +11,8 @@
 #include "u4d/features/sparse_points.h"
 #include "u4d/io/frame_reader.h"
 #include "u4d/io/import_calibration.h"
+#include "u4d/util/data_dir.h"
+#include "u4d/util/testing.h"
 
 namespace u4d {
 namespace {
@@ -28,8 +30,8 @@ Camera Scaled(Camera c, double s) {
 }
 
 TEST(PanopticSparse, RealImagesGiveConsistentPoints) {
-  const fs::path dir = fs::path(U4D_SHARED_DATA_DIR) / "panoptic_demo";
-  if (!fs::exists(dir)) GTEST_SKIP() << dir << " not present";
+  const fs::path dir = DataDir() / "panoptic_demo";
+  U4D_SKIP_WITHOUT_SHARED_DATA(dir);
   const Capture capture = ImportPanoptic(dir);
   ASSERT_EQ(capture.NumViews(), 5);
   FrameReader reader(capture);

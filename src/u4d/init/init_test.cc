@@ -19,12 +19,12 @@
 #include "u4d/io/frame_reader.h"
 #include "u4d/io/instance_mask.h"
 #include "u4d/io/layout.h"
-#include "u4d/io/poses.h"
 #include "u4d/synth/environment.h"
 #include "u4d/synth/generate.h"
 #include "u4d/synth/render.h"
 #include "u4d/util/check.h"
 #include "u4d/util/data_dir.h"
+#include "u4d/util/testing.h"
 
 namespace u4d {
 namespace {
@@ -412,7 +412,7 @@ TEST(InitTest, CrossViewCheckRemovesInjectedBlob) {
 const SynthFixture& MeetupFixture() {
   static const SynthFixture* fixture = [] {
     synth::SynthOptions o = synth::SynthPreset("meetup");
-    o.mocap_bvh = fs::path(U4D_SHARED_DATA_DIR) / "mocap_cmu131" / "scaled_131_02.bvh";
+    o.mocap_bvh = ShippedDataFile(fs::path("mocap") / "scaled_131_02.bvh");
     o.rig.num_views = 8;
     o.rig.image_width = 320;
     o.rig.image_height = 240;
@@ -537,7 +537,7 @@ TEST(InitTest, GroundOccupancySplitsMergedPeopleWithOneIdAcrossViews) {
 // a detector can merge) must see two people in every frame.
 TEST(InitTest, GroundOccupancyKeepsApartPeopleWhoWereApart) {
   const fs::path data = DataDir() / "captured_meshes";
-  if (!fs::is_directory(data)) GTEST_SKIP() << "real data absent: " << data;
+  U4D_SKIP_WITHOUT_SHARED_DATA(data);
   synth::SynthOptions o = synth::SynthPreset("realistic");
   o.captured_meshes = data;
   o.rig.image_width = 320;

@@ -5,12 +5,13 @@
 #include <gtest/gtest.h>
 
 #include "u4d/util/check.h"
+#include "u4d/util/data_dir.h"
 #include "u4d/util/testing.h"
 
 namespace u4d {
 namespace {
 
-const fs::path kCocoJson = fs::path(U4D_SHARED_DATA_DIR) / "coco_people" / "test_coco.json";
+const fs::path kCocoJson = DataDir() / "coco_people" / "test_coco.json";
 
 fs::path FreshDir(const std::string& name) { return test_util::FreshTestDir("coco_test", name); }
 
@@ -27,6 +28,7 @@ double Perimeter(const std::vector<double>& xy) {
 }
 
 TEST(Coco, RealPolygonAreasAgreeWithAreaField) {
+  U4D_SKIP_WITHOUT_SHARED_DATA(kCocoJson);
   const CocoFile coco = ReadCocoFile(kCocoJson);
   ASSERT_EQ(coco.images.size(), 4u);
   ASSERT_EQ(coco.annotations.size(), 14u);
@@ -55,6 +57,7 @@ TEST(Coco, RealPolygonAreasAgreeWithAreaField) {
 }
 
 TEST(Coco, RealInstanceMasksHaveImageSizeAndAllInstances) {
+  U4D_SKIP_WITHOUT_SHARED_DATA(kCocoJson);
   const CocoFile coco = ReadCocoFile(kCocoJson);
   for (const CocoImage& image : coco.images) {
     const InstanceMask mask = CocoInstanceMask(coco, FindCocoImage(coco, image.file_name));
@@ -111,6 +114,7 @@ TEST(Coco, RleRoundTripIsExact) {
     masks.push_back(m);
   }
   // Real masks: long runs with large differences between them.
+  U4D_SKIP_WITHOUT_SHARED_DATA(kCocoJson);
   const CocoFile coco = ReadCocoFile(kCocoJson);
   for (const CocoAnnotation& a : coco.annotations) {
     const CocoImage& im = FindCocoImage(coco, a.image_id);
@@ -174,6 +178,7 @@ TEST(Coco, OverlapRuleHigherScoreThenSmallerArea) {
 }
 
 TEST(Coco, ResultsRoundTripThroughCompressedRle) {
+  U4D_SKIP_WITHOUT_SHARED_DATA(kCocoJson);
   const CocoFile coco = ReadCocoFile(kCocoJson);
   const CocoImage& image = FindCocoImage(coco, "000000197388.jpg");
   InstanceMask mask = CocoInstanceMask(coco, image);
@@ -213,6 +218,7 @@ TEST(Coco, UncompressedRleSegmentation) {
 TEST(Coco, BadInputsNameTheFile) {
   const fs::path dir = FreshDir("bad");
   ExpectErrorMentions([&] { ReadCocoFile(dir / "missing.json"); }, {"missing.json"});
+  U4D_SKIP_WITHOUT_SHARED_DATA(kCocoJson);
   const CocoFile coco = ReadCocoFile(kCocoJson);
   ExpectErrorMentions([&] { FindCocoImage(coco, "nope.jpg"); }, {"test_coco.json", "nope.jpg"});
   ExpectErrorMentions([&] { FindCocoImage(coco, int64_t{12345}); }, {"test_coco.json", "12345"});

@@ -16,11 +16,13 @@
 #include "u4d/io/import_calibration.h"
 #include "u4d/io/import_fourda.h"
 #include "u4d/util/check.h"
+#include "u4d/util/data_dir.h"
+#include "u4d/util/testing.h"
 
 namespace u4d {
 namespace {
 
-const fs::path kData = U4D_SHARED_DATA_DIR;
+const fs::path kData = DataDir();
 
 // A fresh temporary directory, removed at the end of the test.
 class TempDir {
@@ -213,6 +215,7 @@ void CheckPanopticLikeEpipolar(const Capture& capture, const std::string& what, 
 }
 
 TEST(ImportPanoptic, CalibrationGeometry) {
+  U4D_SKIP_WITHOUT_SHARED_DATA(kData / "panoptic_demo");
   const auto cams = ReadPanopticCalibration(kData / "panoptic_demo/camera_parameters.json");
   ASSERT_EQ(cams.size(), 31u);
   std::vector<Camera> c;
@@ -233,6 +236,7 @@ TEST(ImportPanoptic, CalibrationGeometry) {
 }
 
 TEST(ImportPanoptic, EpipolarOnImages) {
+  U4D_SKIP_WITHOUT_SHARED_DATA(kData / "panoptic_demo");
   const Capture capture = ImportPanoptic(kData / "panoptic_demo");
   ASSERT_EQ(capture.NumViews(), 5);
   ASSERT_EQ(capture.num_frames, 5);
@@ -244,6 +248,7 @@ TEST(ImportPanoptic, BadInput) {
   TempDir tmp("panoptic");
   const fs::path missing = tmp.path() / "nope.json";
   ExpectErrorNaming([&] { ReadPanopticCalibration(missing); }, missing.string(), "missing file");
+  U4D_SKIP_WITHOUT_SHARED_DATA(kData / "panoptic_demo");
   const std::string text = ReadTextFile(kData / "panoptic_demo/camera_parameters.json");
   const fs::path truncated = tmp.path() / "truncated.json";
   WriteText(truncated, text.substr(0, text.size() / 2));
@@ -264,6 +269,7 @@ TEST(ImportPanoptic, BadInput) {
 // ---- Qualisys ----------------------------------------------------------------
 
 TEST(ImportQualisys, CalibrationAndEpipolar) {
+  U4D_SKIP_WITHOUT_SHARED_DATA(kData / "pose2sim_single");
   const Capture capture = ImportQualisys(kData / "pose2sim_single");
   ASSERT_EQ(capture.NumViews(), 4);
   EXPECT_EQ(capture.num_frames, 100);
@@ -321,6 +327,7 @@ TEST(ImportQualisys, CalibrationAndEpipolar) {
 }
 
 TEST(ImportQualisys, BadInput) {
+  U4D_SKIP_WITHOUT_SHARED_DATA(kData / "pose2sim_single");
   TempDir tmp("qualisys");
   const std::string text = ReadTextFile(kData / "pose2sim_single/Calib.qca.txt");
   const fs::path nan = tmp.path() / "nan.qca.txt";
@@ -379,6 +386,7 @@ double ShelfMedianDistance(const std::vector<NamedCamera>& cams, const FourdaGro
 }
 
 TEST(ImportFourda, ShelfGroundTruthMatchesDetections) {
+  U4D_SKIP_WITHOUT_SHARED_DATA(kData / "shelf_pose");
   const fs::path dir = kData / "shelf_pose";
   const auto cams = ReadFourdaCalibration(dir / "calibration.json");
   ASSERT_EQ(cams.size(), 5u);
@@ -418,6 +426,7 @@ TEST(ImportFourda, ShelfGroundTruthMatchesDetections) {
 }
 
 TEST(ImportFourda, BadInput) {
+  U4D_SKIP_WITHOUT_SHARED_DATA(kData / "shelf_pose");
   TempDir tmp("fourda");
   const fs::path dir = kData / "shelf_pose";
   const std::string gt = ReadTextFile(dir / "gt.txt");
@@ -441,6 +450,7 @@ TEST(ImportFourda, BadInput) {
 // ---- Middlebury --------------------------------------------------------------
 
 TEST(ImportMiddlebury, DinoSilhouettesInsideProjectedBox) {
+  U4D_SKIP_WITHOUT_SHARED_DATA(kData / "dino_sparse_ring");
   const Capture capture = ImportMiddlebury(kData / "dino_sparse_ring");
   ASSERT_EQ(capture.NumViews(), 16);
   EXPECT_EQ(capture.num_frames, 1);
@@ -521,6 +531,7 @@ TEST(ImportMiddlebury, DinoSilhouettesInsideProjectedBox) {
 }
 
 TEST(ImportMiddlebury, BadInput) {
+  U4D_SKIP_WITHOUT_SHARED_DATA(kData / "dino_sparse_ring");
   TempDir tmp("middlebury");
   const std::string text = ReadTextFile(kData / "dino_sparse_ring/dinoSR_par.txt");
   const fs::path nan = tmp.path() / "nan_par.txt";
@@ -539,6 +550,7 @@ TEST(ImportMiddlebury, BadInput) {
 // ---- EasyMocap (written from Panoptic, read back) -----------------------------
 
 TEST(ImportEasyMocap, RoundTripFromPanoptic) {
+  U4D_SKIP_WITHOUT_SHARED_DATA(kData / "panoptic_demo");
   TempDir tmp("easymocap");
   const Capture panoptic = ImportPanoptic(kData / "panoptic_demo");
   WriteEasyMocap(panoptic, tmp.path());
@@ -620,6 +632,7 @@ TEST(ImportEasyMocap, RoundTripFromPanoptic) {
 // ---- self-contained native capture ------------------------------------------
 
 TEST(ImportCapture, WriteImportedCaptureIsSelfContained) {
+  U4D_SKIP_WITHOUT_SHARED_DATA(kData / "panoptic_demo");
   TempDir tmp("native");
   ImportOptions options;
   options.max_frames = 2;

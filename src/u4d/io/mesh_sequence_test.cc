@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "u4d/util/check.h"
+#include "u4d/util/data_dir.h"
 #include "u4d/util/testing.h"
 
 namespace u4d {
@@ -23,7 +24,7 @@ namespace {
 
 using test_util::ExpectErrorMentions;
 
-const fs::path kCaptured = fs::path(U4D_SHARED_DATA_DIR) / "captured_meshes";
+const fs::path kCaptured = DataDir() / "captured_meshes";
 
 fs::path FreshDir(const std::string& name) {
   return test_util::FreshTestDir("mesh_sequence_test", name);
@@ -417,7 +418,7 @@ TEST(MeshSequence, CorruptGzipAndPlyThrowNamingTheFile) {
 
 TEST(MeshSequenceReal, PdanceFramesHaveFixedTopology) {
   const fs::path frames = kCaptured / "pdance" / "frames";
-  if (!fs::exists(frames)) GTEST_SKIP() << "real data absent: " << frames;
+  U4D_SKIP_WITHOUT_SHARED_DATA(frames);
   const std::vector<fs::path> files = ListMeshFrameFiles(frames);
   ASSERT_EQ(files.size(), 201u);
   EXPECT_EQ(files.front().filename(), "0001.obj.gz");
@@ -467,7 +468,8 @@ TEST(MeshSequenceReal, PjumpPointCacheMatchesTemplate) {
   const fs::path dir = kCaptured / "pjump";
   const fs::path pc2 = dir / "pjump_positions.pc2";
   const fs::path obj = dir / "template_frame0001.obj.gz";
-  if (!fs::exists(pc2) || !fs::exists(obj)) GTEST_SKIP() << "real data absent: " << dir;
+  U4D_SKIP_WITHOUT_SHARED_DATA(pc2);
+  U4D_SKIP_WITHOUT_SHARED_DATA(obj);
   const PointCacheHeader h = ReadPointCacheHeader(pc2);
   EXPECT_EQ(h.num_points, 15830);
   EXPECT_EQ(h.num_samples, 222);

@@ -7,12 +7,13 @@
 
 #include "u4d/io/import_fourda.h"
 #include "u4d/util/check.h"
+#include "u4d/util/data_dir.h"
 #include "u4d/util/testing.h"
 
 namespace u4d {
 namespace {
 
-const fs::path kData = U4D_SHARED_DATA_DIR;
+const fs::path kData = DataDir();
 
 fs::path FreshDir(const std::string& name) { return test_util::FreshTestDir("poses_test", name); }
 
@@ -20,6 +21,7 @@ using test_util::ExpectErrorMentions;
 
 TEST(Poses, CocoKeypointsAgreeWithTheFileAndTheMasks) {
   const fs::path path = kData / "coco_people" / "test_coco.json";
+  U4D_SKIP_WITHOUT_SHARED_DATA(path);
   const CocoFile coco = ReadCocoFile(path);
   // 000000000785.jpg: one skier, all 17 keypoints labelled; nose (367, 81),
   // right ankle (396, 341) in the file.
@@ -211,6 +213,7 @@ double Dist(const Pose3d& p, int a, int b) {
 }
 
 TEST(Poses, ShelfGroundTruthIsAPlausibleMetricSkeleton) {
+  U4D_SKIP_WITHOUT_SHARED_DATA(kData / "shelf_pose" / "gt.txt");
   const FourdaGroundTruth gt = ReadFourdaGroundTruth(kData / "shelf_pose" / "gt.txt");
   EXPECT_EQ(gt.num_joints, 15);
   ASSERT_EQ(gt.frames.size(), 301u);
@@ -256,6 +259,7 @@ TEST(Poses, ShelfGroundTruthIsAPlausibleMetricSkeleton) {
 }
 
 TEST(Poses, ShelfDetectionsParseCompletely) {
+  U4D_SKIP_WITHOUT_SHARED_DATA(kData / "shelf_pose" / "detection");
   for (int cam = 0; cam < 5; ++cam) {
     const fs::path path = kData / "shelf_pose" / "detection" / (std::to_string(cam) + ".txt");
     const FourdaDetections det = ReadFourdaDetections(path);  // throws on leftovers

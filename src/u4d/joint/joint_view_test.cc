@@ -17,6 +17,7 @@
 #include "u4d/joint/truth_inputs.h"
 #include "u4d/synth/generate.h"
 #include "u4d/util/check.h"
+#include "u4d/util/data_dir.h"
 #include "u4d/util/testing.h"
 
 namespace u4d {
@@ -220,7 +221,7 @@ class JointViewMeetupTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     synth::SynthOptions o = synth::SynthPreset("meetup");
-    o.mocap_bvh = fs::path(U4D_SHARED_DATA_DIR) / "mocap_cmu131" / "scaled_131_02.bvh";
+    o.mocap_bvh = ShippedDataFile(fs::path("mocap") / "scaled_131_02.bvh");
     o.rig.num_views = 4;
     o.rig.image_width = 320;
     o.rig.image_height = 180;

@@ -136,7 +136,7 @@ TEST(PipelineTest, RunsEndToEndAndBeatsTheInitialMasks) {
 // figures are printed (eval.json "identity").
 TEST(PipelineTest, RealisticWorldFromTheDetectorsMasksAlone) {
   const fs::path data = DataDir() / "captured_meshes";
-  if (!fs::is_directory(data)) GTEST_SKIP() << "real data absent: " << data;
+  U4D_SKIP_WITHOUT_SHARED_DATA(data);
   synth::SynthOptions o = synth::SynthPreset("realistic");
   o.captured_meshes = data;
   o.rig.num_views = 4;

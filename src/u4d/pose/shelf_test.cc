@@ -13,11 +13,13 @@
 #include "u4d/io/import_fourda.h"
 #include "u4d/pose/shelf.h"
 #include "u4d/util/check.h"
+#include "u4d/util/data_dir.h"
+#include "u4d/util/testing.h"
 
 namespace u4d {
 namespace {
 
-const fs::path kShelf = fs::path(U4D_SHARED_DATA_DIR) / "shelf_pose";
+const fs::path kShelf = DataDir() / "shelf_pose";
 
 std::vector<eval::Person3d> ToShelf14(const std::vector<Pose3d>& poses) {
   std::vector<eval::Person3d> out;
@@ -60,6 +62,7 @@ double MeanPcpOfActors123(const std::map<int, eval::PoseMetrics>& m) {
 }
 
 TEST(Shelf, PcpOfTheFullPipeline) {
+  U4D_SKIP_WITHOUT_SHARED_DATA(kShelf);
   const FourdaGroundTruth gt = ReadFourdaGroundTruth(kShelf / "gt.txt");
   const ShelfPipelineResult result = RunShelfPipeline(kShelf);
   ASSERT_EQ(result.raw.size(), gt.frames.size());

@@ -10,15 +10,18 @@
 
 #include "u4d/synth/skeleton.h"
 #include "u4d/util/check.h"
+#include "u4d/util/data_dir.h"
 
 namespace u4d::synth {
 namespace {
 
-const std::string kCmu01 = std::string(U4D_SHARED_DATA_DIR) + "/mocap_cmu131/scaled_131_01.bvh";
-const std::string kCmu02 = std::string(U4D_SHARED_DATA_DIR) + "/mocap_cmu131/scaled_131_02.bvh";
+// The CMU clips shipped in data/mocap.
+fs::path CmuClip(const std::string& take) {
+  return ShippedDataFile(fs::path("mocap") / ("scaled_131_" + take + ".bvh"));
+}
 
 const BvhMotion& Cmu01() {
-  static const BvhMotion m = ReadBvh(kCmu01);
+  static const BvhMotion m = ReadBvh(CmuClip("01"));
   return m;
 }
 
@@ -32,7 +35,7 @@ TEST(Bvh, HeaderCountsMatchTheFile) {
   EXPECT_EQ(m.joints.size(), 38u);
   EXPECT_EQ(m.joints[0].name, "Hips");
   EXPECT_EQ(m.joints[0].channels.size(), 6u);
-  const BvhMotion m2 = ReadBvh(kCmu02);
+  const BvhMotion m2 = ReadBvh(CmuClip("02"));
   EXPECT_EQ(m2.num_frames, 1248);
   // First motion value of 131_02 is the root X position in the file.
   EXPECT_NEAR(m2.values(0, 0), 0.271524, 1e-12);

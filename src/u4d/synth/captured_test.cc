@@ -106,7 +106,7 @@ TEST(CapturedTest, ClosestApproachIsTheGap) {
 // motion against the flow).
 TEST(CapturedTest, RealisticGroundTruthMatchesTheMeshes) {
   const fs::path data = DataDir() / "captured_meshes";
-  if (!fs::is_directory(data)) GTEST_SKIP() << "real data absent: " << data;
+  U4D_SKIP_WITHOUT_SHARED_DATA(data);
   SynthOptions o = SynthPreset("realistic");
   o.captured_meshes = data;
   o.num_frames = 3;

@@ -55,7 +55,7 @@ PersonScript MakePerson(uint64_t seed, const BodyMeshOptions& mesh_options = {})
 PeopleScript MakeHandshakeScript(int num_frames, double fps, uint64_t seed);
 
 // num_people >= 3 (at most 8) meet; see the file comment. `mocap_bvh` is a
-// CMU BVH walk (e.g. shared data mocap_cmu131/scaled_131_02.bvh). Needs
+// CMU BVH walk (e.g. the shipped data/mocap/scaled_131_02.bvh). Needs
 // num_frames / fps >= 5 s.
 PeopleScript MakeMeetupScript(int num_people, int num_frames, double fps, uint64_t seed,
                               const fs::path& mocap_bvh);

@@ -9,12 +9,14 @@
 #include <gtest/gtest.h>
 
 #include "u4d/util/check.h"
+#include "u4d/util/data_dir.h"
 #include "u4d/util/timer.h"
 
 namespace u4d::synth {
 namespace {
 
-const std::string kWalkBvh = std::string(U4D_SHARED_DATA_DIR) + "/mocap_cmu131/scaled_131_02.bvh";
+// The meetup preset's CMU walk, shipped in data/mocap.
+fs::path WalkBvh() { return ShippedDataFile(fs::path("mocap") / "scaled_131_02.bvh"); }
 
 double MinY(const SurfaceMesh& m) {
   double y = 1e9;
@@ -248,7 +250,7 @@ TEST(People, FaceToFacePartnersOccludeEachOtherAlongTheirAxis) {
 }
 
 TEST(People, MeetupHasAHandshakeAMocapPersonAndNoCollisions) {
-  const PeopleScript script = MakeMeetupScript(4, 200, 25, 5, kWalkBvh);
+  const PeopleScript script = MakeMeetupScript(4, 200, 25, 5, WalkBvh());
   ASSERT_EQ(script.people.size(), 4u);
   ASSERT_EQ(script.clips.size(), 1u);
   EXPECT_EQ(script.people[3].motion.phases[0].kind, MotionPhase::Kind::kMocap);
@@ -260,11 +262,11 @@ TEST(People, MeetupHasAHandshakeAMocapPersonAndNoCollisions) {
   const BodyPose last = PosePerson(script, 3, script.num_frames - 1);
   EXPECT_GT((first.position[kPelvis] - last.position[kPelvis]).norm(), 0.5);
   EXPECT_THROW(MakeMeetupScript(4, 200, 25, 5, "/nonexistent.bvh"), Error);
-  EXPECT_THROW(MakeMeetupScript(2, 200, 25, 5, kWalkBvh), Error);
+  EXPECT_THROW(MakeMeetupScript(2, 200, 25, 5, WalkBvh()), Error);
 }
 
 TEST(People, MeetupWithMorePeopleAndTiming) {
-  const PeopleScript script = MakeMeetupScript(6, 250, 25, 77, kWalkBvh);
+  const PeopleScript script = MakeMeetupScript(6, 250, 25, 77, WalkBvh());
   CheckFrames(script, true);
   SceneFrame frame;
   PosePeople(script, 100, &frame);  // warm up

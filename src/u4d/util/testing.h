@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "u4d/util/check.h"
+#include "u4d/util/data_dir.h"
 #include "u4d/util/file.h"
 
 namespace u4d::test_util {
@@ -36,3 +37,15 @@ void ExpectErrorMentions(F&& f, const std::vector<std::string>& parts) {
 }
 
 }  // namespace u4d::test_util
+
+// U4D_SKIP_WITHOUT_SHARED_DATA(data_path): skips the current test (in a TEST
+// body or SetUp()) with a message naming `data_path` when that real
+// data (under DataDir(): ../shared/data beside the checkout, or
+// $U4D_DATA_DIR) is absent. The data shipped in data/ needs no skip.
+#define U4D_SKIP_WITHOUT_SHARED_DATA(data_path)                                        \
+  do {                                                                                 \
+    const ::u4d::fs::path u4d_shared_path_ = (data_path);                              \
+    if (!::u4d::fs::exists(u4d_shared_path_))                                          \
+      GTEST_SKIP() << "shared real data absent: " << u4d_shared_path_.string()         \
+                   << " (put ../shared/data beside the checkout or set U4D_DATA_DIR)"; \
+  } while (0)
