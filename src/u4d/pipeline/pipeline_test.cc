@@ -132,8 +132,8 @@ TEST(PipelineTest, RunsEndToEndAndBeatsTheInitialMasks) {
 // captured performers who touch, a detector's failures, no 2D keypoints. The
 // run must work from the masks alone, refine them (class and instance IoU
 // against GT above the detector's) and mesh every visible person at every
-// frame. One id per person is the identity work's target, not met yet: the
-// figures are printed (eval.json "identity").
+// frame, with one id per person in every view and frame (eval.json
+// "identity").
 TEST(PipelineTest, RealisticWorldFromTheDetectorsMasksAlone) {
   const fs::path data = DataDir() / "captured_meshes";
   U4D_SKIP_WITHOUT_SHARED_DATA(data);
