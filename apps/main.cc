@@ -1,5 +1,6 @@
 // The `u4d` command: a table of subcommands (apps/commands.h).
 #include <cstdio>
+#include <exception>
 
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
@@ -24,10 +25,18 @@ int main(int argc, char** argv) {
   spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info);
   for (const u4d::apps::Command& command : u4d::apps::Commands()) {
     if (!app.got_subcommand(command.name)) continue;
+    // Bad input is a u4d::Error (exit 1). Anything else escaping a command is
+    // a bug in U4D; the last-resort handlers say so and exit 2.
     try {
       return command.run();
     } catch (const u4d::Error& e) {
       std::fprintf(stderr, "u4d %s: error: %s\n", command.name.c_str(), e.what());
+      return 1;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "u4d %s: internal error: %s\n", command.name.c_str(), e.what());
+      return 2;
+    } catch (...) {
+      std::fprintf(stderr, "u4d %s: internal error: unknown exception\n", command.name.c_str());
       return 2;
     }
   }
