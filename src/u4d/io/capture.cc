@@ -3,8 +3,12 @@
 #include <set>
 
 #include "u4d/util/check.h"
+#include "u4d/util/json_checked.h"
 
 namespace u4d {
+namespace {
+std::string FormatPattern(const std::string& pattern, int index, const std::string& context);
+}  // namespace
 
 std::string ToString(SceneType type) { return type == SceneType::kIndoor ? "indoor" : "outdoor"; }
 
@@ -34,7 +38,7 @@ fs::path Capture::ImagePath(int view, int frame) const {
             views[view].name);
   U4D_CHECK(frame >= 0 && frame < num_frames, "frame {} out of range [0, {})", frame, num_frames);
   if (!src.files.empty()) return root / src.files.at(frame);
-  return root / fmt::format(fmt::runtime(src.path), frame + src.first_index);
+  return root / FormatPattern(src.path, frame + src.first_index, views[view].name);
 }
 
 void Capture::Check(const std::string& context) const {
@@ -88,8 +92,9 @@ std::vector<double> FlatList(const nlohmann::json& j, size_t n, const std::strin
 
 Camera CameraFromJson(const nlohmann::json& j, const std::string& context) {
   Camera cam;
-  cam.width = JsonGet<int>(j, "width", context);
-  cam.height = JsonGet<int>(j, "height", context);
+  // The same plausibility bound as the binary image readers (io/image_io.h).
+  cam.width = JsonRequiredInt(j, "width", 1, 99999, context);
+  cam.height = JsonRequiredInt(j, "height", 1, 99999, context);
   const auto k = FlatList(j, 9, context, "K");
   for (int i = 0; i < 9; ++i) cam.K(i / 3, i % 3) = k[i];
   if (j.contains("dist")) {
@@ -139,57 +144,99 @@ nlohmann::json CalibrationToJson(const Capture& capture) {
           {"cameras", cams}};
 }
 
+namespace {
+
+// Formats an image path pattern ("images/cam00/{:06d}.png") for one index; a
+// malformed pattern is a u4d::Error naming `context`, not fmt's format_error.
+std::string FormatPattern(const std::string& pattern, int index, const std::string& context) {
+  try {
+    return fmt::format(fmt::runtime(pattern), index);
+  } catch (const fmt::format_error& e) {
+    ThrowError(fmt::format("{}: invalid path pattern '{}' ({}); expected one field such as {{:06d}}",
+                           context, pattern, e.what()));
+  }
+}
+
+FrameSource SourceFromJson(const nlohmann::json& vj, const std::string& view,
+                           const std::string& mctx) {
+  const std::string ctx = fmt::format("{}: view {}", mctx, view);
+  FrameSource source;
+  const std::string kind = JsonOptional<std::string>(vj, "source", "images", ctx);
+  U4D_CHECK(kind == "images" || kind == "video", "{}: source must be images or video, found '{}'",
+            ctx, kind);
+  source.kind = kind == "images" ? FrameSource::Kind::kImages : FrameSource::Kind::kVideo;
+  source.path = JsonOptional<std::string>(vj, "path", "", ctx);
+  source.first_index = JsonOptional<int>(vj, "first_index", 0, ctx);
+  U4D_CHECK(source.first_index >= 0, "{}: 'first_index' must be >= 0, found {}", ctx,
+            source.first_index);
+  source.files = JsonOptional<std::vector<std::string>>(vj, "files", {}, ctx);
+  U4D_CHECK(!source.path.empty() || !source.files.empty(), "{}: neither 'path' nor 'files'", ctx);
+  if (source.kind == FrameSource::Kind::kImages && source.files.empty())
+    FormatPattern(source.path, source.first_index, ctx);
+  return source;
+}
+
+// The cameras of `view` in calibration.json's 'cameras' array (one, or one
+// per frame under 'per_frame'); empty when the view has none.
+std::vector<Camera> CamerasOfView(const nlohmann::json& cameras, const std::string& view,
+                                  const std::string& cctx) {
+  std::vector<Camera> out;
+  for (const auto& cj : cameras) {
+    if (JsonRequired<std::string>(cj, "view", cctx) != view) continue;
+    const std::string ctx = fmt::format("{}: view {}", cctx, view);
+    U4D_CHECK(out.empty(), "{}: more than one camera record for the view", ctx);
+    if (cj.contains("per_frame")) {
+      const auto per_frame = JsonRequired<std::vector<nlohmann::json>>(cj, "per_frame", ctx);
+      U4D_CHECK(!per_frame.empty(), "{}: 'per_frame' is empty", ctx);
+      for (size_t i = 0; i < per_frame.size(); ++i)
+        out.push_back(CameraFromJson(per_frame[i], fmt::format("{} frame {}", ctx, i)));
+    } else {
+      out.push_back(CameraFromJson(cj, ctx));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 Capture ReadCapture(const fs::path& dir) {
   CheckDirExists(dir, "capture directory");
   const fs::path manifest_path = dir / "capture.json";
   const fs::path calib_path = dir / "calibration.json";
-  const nlohmann::json m = ReadJsonFile(manifest_path);
   const std::string mctx = manifest_path.string();
-  U4D_CHECK(m.value("format", "") == "u4d-capture", "{}: 'format' must be 'u4d-capture'", mctx);
+  const nlohmann::json m = JsonObject(ReadJsonFile(manifest_path), mctx);
+  U4D_CHECK(JsonOptional<std::string>(m, "format", "", mctx) == "u4d-capture",
+            "{}: 'format' must be 'u4d-capture'", mctx);
 
   Capture capture;
   capture.root = dir;
-  capture.name = m.value("name", dir.filename().string());
-  capture.scene = SceneTypeFromString(m.value("scene", "indoor"), mctx);
+  capture.name = JsonOptional<std::string>(m, "name", dir.filename().string(), mctx);
+  capture.scene = SceneTypeFromString(JsonOptional<std::string>(m, "scene", "indoor", mctx), mctx);
   capture.fps = JsonGet<double>(m, "fps", mctx);
   capture.num_frames = JsonGet<int>(m, "num_frames", mctx);
-  if (m.contains("classes"))
-    capture.classes = JsonGet<std::vector<std::string>>(m, "classes", mctx);
-  const auto& views = m.at("views");
-  U4D_CHECK(views.is_array(), "{}: 'views' must be an array", mctx);
+  capture.classes = JsonOptional<std::vector<std::string>>(m, "classes", capture.classes, mctx);
+  const auto views = JsonRequired<std::vector<nlohmann::json>>(m, "views", mctx);
 
-  const nlohmann::json calib = ReadJsonFile(calib_path);
   const std::string cctx = calib_path.string();
-  U4D_CHECK(calib.contains("cameras") && calib["cameras"].is_array(), "{}: missing 'cameras' array",
-            cctx);
+  const nlohmann::json calib = JsonObject(ReadJsonFile(calib_path), cctx);
+  const auto cameras = JsonRequired<std::vector<nlohmann::json>>(calib, "cameras", cctx);
+  std::set<std::string> view_names;
   for (const auto& vj : views) {
     CaptureView view;
     view.name = JsonGet<std::string>(vj, "name", mctx);
-    const std::string kind = vj.value("source", "images");
-    U4D_CHECK(kind == "images" || kind == "video", "{}: view {}: source must be images or video",
-              mctx, view.name);
-    view.source.kind = kind == "images" ? FrameSource::Kind::kImages : FrameSource::Kind::kVideo;
-    view.source.path = vj.value("path", "");
-    view.source.first_index = vj.value("first_index", 0);
-    if (vj.contains("files"))
-      view.source.files = JsonGet<std::vector<std::string>>(vj, "files", mctx);
-    U4D_CHECK(!view.source.path.empty() || !view.source.files.empty(),
-              "{}: view {} has neither 'path' nor 'files'", mctx, view.name);
-    bool found = false;
-    for (const auto& cj : calib["cameras"]) {
-      if (cj.value("view", "") != view.name) continue;
-      const std::string ctx = fmt::format("{}: view {}", cctx, view.name);
-      if (cj.contains("per_frame")) {
-        int i = 0;
-        for (const auto& pj : cj["per_frame"])
-          view.cameras.push_back(CameraFromJson(pj, fmt::format("{} frame {}", ctx, i++)));
-      } else {
-        view.cameras.push_back(CameraFromJson(cj, ctx));
-      }
-      found = true;
-    }
-    U4D_CHECK(found, "{}: no camera for view '{}' listed in {}", cctx, view.name, mctx);
+    view_names.insert(view.name);
+    view.source = SourceFromJson(vj, view.name, mctx);
+    view.cameras = CamerasOfView(cameras, view.name, cctx);
+    U4D_CHECK(!view.cameras.empty(), "{}: no camera for view '{}' listed in {}", cctx, view.name,
+              mctx);
     capture.views.push_back(std::move(view));
+  }
+  // A camera for a view the manifest does not list is most likely a typo in
+  // a view name; refuse rather than silently ignore it.
+  for (const auto& cj : cameras) {
+    const std::string name = JsonRequired<std::string>(cj, "view", cctx);
+    U4D_CHECK(view_names.count(name), "{}: camera for view '{}', which {} does not list", cctx,
+              name, mctx);
   }
   capture.Check(mctx);
   return capture;

@@ -6,6 +6,7 @@
 #include "u4d/io/image_io.h"
 #include "u4d/io/layout.h"
 #include "u4d/util/check.h"
+#include "u4d/util/testing.h"
 
 namespace u4d {
 namespace {
@@ -90,6 +91,84 @@ TEST(Capture, BadInputsNameTheProblem) {
   // Moving camera with a frame-count mismatch.
   c.views[0].cameras.resize(3, c.views[0].cameras[0]);
   EXPECT_THROW(c.Check("test"), Error);
+}
+
+// Each malformed manifest or calibration found by the mutation fuzzer is a
+// u4d::Error naming the file and the field, not a nlohmann or fmt exception.
+TEST(Capture, MalformedJsonIsAnErrorNamingFileAndField) {
+  using test_util::ExpectErrorMentions;
+  const fs::path dir = FreshDir("malformed");
+  const Capture c = TwoViewCapture();
+  WriteCapture(c, dir);
+  const nlohmann::json manifest = ReadJsonFile(dir / "capture.json");
+  const nlohmann::json calib = ReadJsonFile(dir / "calibration.json");
+  const auto with_manifest = [&](const nlohmann::json& m) {
+    WriteJsonFileAtomic(dir / "capture.json", m);
+    WriteJsonFileAtomic(dir / "calibration.json", calib);
+  };
+  const auto with_calib = [&](const nlohmann::json& k) {
+    WriteJsonFileAtomic(dir / "capture.json", manifest);
+    WriteJsonFileAtomic(dir / "calibration.json", k);
+  };
+  const auto read = [&] { ReadCapture(dir); };
+
+  with_manifest(nlohmann::json::array({manifest}));
+  ExpectErrorMentions(read, {"capture.json", "expected a JSON object", "array"});
+  nlohmann::json m = manifest;
+  m["views"][0]["first_index"] = "3";
+  with_manifest(m);
+  ExpectErrorMentions(read, {"capture.json", "view cam0", "'first_index'", "must be an integer"});
+  m = manifest;
+  m["views"][1]["path"] = "images/cam1/{:06q}.png";
+  with_manifest(m);
+  ExpectErrorMentions(read, {"capture.json", "view cam1", "invalid path pattern", "{:06q}"});
+  m = manifest;
+  m["num_frames"] = 3e9;
+  with_manifest(m);
+  ExpectErrorMentions(read, {"capture.json", "'num_frames'", "must be an integer"});
+  m = manifest;
+  m["views"] = 7;
+  with_manifest(m);
+  ExpectErrorMentions(read, {"capture.json", "'views'", "must be an array"});
+  with_calib(calib);
+  WriteTextFileAtomic(dir / "capture.json", "{\"format\": \"u4d-capture\", \"fps\": 1e999}");
+  ExpectErrorMentions(read, {"capture.json", "invalid JSON"});
+
+  nlohmann::json k = calib;
+  k["cameras"][0]["view"] = 7;
+  with_calib(k);
+  ExpectErrorMentions(read, {"calibration.json", "'view'", "must be a string"});
+  k = calib;
+  k["cameras"][1]["width"] = 99999999;
+  with_calib(k);
+  ExpectErrorMentions(read, {"calibration.json", "view cam1", "'width'", "[1, 99999]"});
+  k = calib;
+  k["cameras"] = nlohmann::json::object();
+  with_calib(k);
+  ExpectErrorMentions(read, {"calibration.json", "'cameras'", "must be an array"});
+  k = calib;
+  k["cameras"][0]["per_frame"] = "x";
+  with_calib(k);
+  ExpectErrorMentions(read, {"calibration.json", "view cam0", "'per_frame'", "must be an array"});
+}
+
+// A camera in calibration.json for a view that capture.json does not list
+// (usually a typo in a view name) is an error naming it, not ignored.
+TEST(Capture, ExtraCameraIsAnError) {
+  const fs::path dir = FreshDir("extra_camera");
+  const Capture c = TwoViewCapture();
+  WriteCapture(c, dir);
+  nlohmann::json calib = ReadJsonFile(dir / "calibration.json");
+  nlohmann::json extra = calib["cameras"][1];
+  extra["view"] = "cam9";
+  calib["cameras"].push_back(extra);
+  WriteJsonFileAtomic(dir / "calibration.json", calib);
+  test_util::ExpectErrorMentions([&] { ReadCapture(dir); },
+                                 {"calibration.json", "camera for view 'cam9'", "does not list"});
+  calib["cameras"][2]["view"] = "cam1";  // a second record for cam1
+  WriteJsonFileAtomic(dir / "calibration.json", calib);
+  test_util::ExpectErrorMentions([&] { ReadCapture(dir); },
+                                 {"calibration.json", "view cam1", "more than one camera record"});
 }
 
 }  // namespace

@@ -21,6 +21,18 @@ cv::Mat ReadAny(const fs::path& path, int flags, const char* what) {
   return image;
 }
 
+// Checks, before anything is allocated, that the file holds at least
+// `data_bytes` after its `header_bytes`-byte header.
+void CheckDataSize(const fs::path& path, uint64_t header_bytes, uint64_t data_bytes,
+                   const std::string& what) {
+  std::error_code ec;
+  const uint64_t size = fs::file_size(path, ec);
+  U4D_CHECK(!ec, "{}: cannot read the file size: {}", path.string(), ec.message());
+  U4D_CHECK(size >= header_bytes && size - header_bytes >= data_bytes,
+            "{}: truncated file: the header announces {} ({} bytes) but {} bytes follow it",
+            path.string(), what, data_bytes, size >= header_bytes ? size - header_bytes : 0);
+}
+
 }  // namespace
 
 cv::Mat ReadColorImage(const fs::path& path) {
@@ -65,8 +77,10 @@ cv::Mat ReadPfm(const fs::path& path) {
   U4D_CHECK(scale != 0 && std::isfinite(scale), "{}: invalid PFM scale", path.string());
   in.get();  // the single whitespace byte after the header
   const int channels = magic == "PF" ? 3 : 1;
-  cv::Mat image(height, width, CV_32FC(channels));
   const size_t row_bytes = static_cast<size_t>(width) * channels * sizeof(float);
+  CheckDataSize(path, static_cast<uint64_t>(in.tellg()), row_bytes * height,
+                fmt::format("PFM data for {}x{}x{} floats", width, height, channels));
+  cv::Mat image(height, width, CV_32FC(channels));
   // PFM stores rows bottom to top.
   for (int y = height - 1; y >= 0; --y) {
     in.read(reinterpret_cast<char*>(image.ptr(y)), static_cast<std::streamsize>(row_bytes));
@@ -117,8 +131,10 @@ cv::Mat ReadFlo(const fs::path& path) {
             "{}: not a .flo file (magic number 202021.25 missing)", path.string());
   U4D_CHECK(width > 0 && height > 0 && width < 100000 && height < 100000,
             "{}: implausible flow size {}x{}", path.string(), width, height);
-  cv::Mat flow(height, width, CV_32FC2);
   const std::streamsize bytes = static_cast<std::streamsize>(width) * height * 2 * sizeof(float);
+  CheckDataSize(path, 12, static_cast<uint64_t>(bytes),
+                fmt::format("flow data for {}x{} vectors", width, height));
+  cv::Mat flow(height, width, CV_32FC2);
   in.read(reinterpret_cast<char*>(flow.data), bytes);
   U4D_CHECK(in.gcount() == bytes, "{}: truncated flow data (expected {}x{} vectors)", path.string(),
             width, height);

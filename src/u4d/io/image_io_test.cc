@@ -72,5 +72,30 @@ TEST(ImageIo, BadFilesGiveClearErrors) {
                       "expected size 6x4, found 5x4");
 }
 
+// A header announcing 99999x99999 over a few bytes of data is refused from
+// the file size, before the 40-80 GB image would be allocated.
+TEST(ImageIo, HugeHeadersOverShortDataAreRefusedBeforeAllocating) {
+  const fs::path dir = TempDir();
+  {
+    std::ofstream out(dir / "huge.flo", std::ios::binary);
+    const float magic = 202021.25f;
+    const int32_t w = 99999, h = 99999;
+    out.write(reinterpret_cast<const char*>(&magic), 4);
+    out.write(reinterpret_cast<const char*>(&w), 4);
+    out.write(reinterpret_cast<const char*>(&h), 4);
+    out << "xxxxxxxx";
+  }
+  test_util::ExpectErrorMentions([&] { ReadFlo(dir / "huge.flo"); },
+                                 {"huge.flo", "truncated", "99999x99999", "79998400008 bytes",
+                                  "but 8 bytes follow"});
+  { std::ofstream(dir / "huge.pfm", std::ios::binary) << "PF\n99999 99999\n-1\nxxxx"; }
+  test_util::ExpectErrorMentions([&] { ReadPfm(dir / "huge.pfm"); },
+                                 {"huge.pfm", "truncated", "99999x99999x3", "but 4 bytes follow"});
+  // Exactly one float short of a 2x2 single-channel map.
+  { std::ofstream(dir / "short.pfm", std::ios::binary) << "Pf\n2 2\n-1\n" << std::string(12, 'a'); }
+  test_util::ExpectErrorMentions([&] { ReadPfm(dir / "short.pfm"); },
+                                 {"short.pfm", "(16 bytes)", "but 12 bytes follow"});
+}
+
 }  // namespace
 }  // namespace u4d

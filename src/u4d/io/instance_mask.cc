@@ -4,6 +4,7 @@
 
 #include "u4d/io/image_io.h"
 #include "u4d/util/check.h"
+#include "u4d/util/json_checked.h"
 
 namespace u4d {
 
@@ -16,16 +17,14 @@ const InstanceInfo* InstanceMask::Find(int id) const {
 InstanceMask ReadInstanceMask(const fs::path& png, const fs::path& json) {
   InstanceMask mask;
   mask.ids = ReadLabelImage(png);
-  const nlohmann::json j = ReadJsonFile(json);
   const std::string ctx = json.string();
-  U4D_CHECK(j.contains("instances") && j["instances"].is_array(), "{}: missing 'instances' array",
-            ctx);
+  const nlohmann::json j = JsonObject(ReadJsonFile(json), ctx);
   std::set<int> listed;
-  for (const auto& ij : j["instances"]) {
+  for (const auto& ij : JsonRequired<std::vector<nlohmann::json>>(j, "instances", ctx)) {
     InstanceInfo info;
     info.id = JsonGet<int>(ij, "id", ctx);
-    info.label = ij.value("class", "person");
-    info.score = ij.value("score", 1.0);
+    info.label = JsonOptional<std::string>(ij, "class", "person", ctx);
+    info.score = JsonOptional<double>(ij, "score", 1.0, ctx);
     U4D_CHECK(info.id >= 1 && info.id < 65536, "{}: instance id {} out of range [1, 65535]", ctx,
               info.id);
     U4D_CHECK(std::isfinite(info.score) && info.score >= 0 && info.score <= 1,

@@ -103,6 +103,7 @@ int PersonIdField(const json& p, const std::string& ctx) {
   const json& n = (v.is_array() && v.size() == 1) ? v[0] : v;
   if (!n.is_number()) return -1;
   const double d = Number(n, ctx, "'person_id'");
+  U4D_CHECK(d < 2147483648.0, "{}: 'person_id' {} out of range", ctx, d);
   return d >= 0 ? static_cast<int>(d) : -1;
 }
 

@@ -10,14 +10,36 @@
 
 namespace u4d {
 
+namespace {
+
+// fs::status without exceptions: an error other than "not found" (e.g. no
+// permission to search a parent) is a u4d::Error naming the path.
+fs::file_status StatusOf(const fs::path& path, const std::string& what) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  U4D_CHECK(!ec || st.type() == fs::file_type::not_found, "{} {}: {}", what, path.string(),
+            ec.message());
+  return st;
+}
+
+}  // namespace
+
 void CheckFileExists(const fs::path& path, const std::string& what) {
-  U4D_CHECK(fs::exists(path), "{} not found: {}", what, path.string());
-  U4D_CHECK(fs::is_regular_file(path), "{} is not a regular file: {}", what, path.string());
+  const fs::file_status st = StatusOf(path, what);
+  U4D_CHECK(fs::exists(st), "{} not found: {}", what, path.string());
+  U4D_CHECK(fs::is_regular_file(st), "{} is not a regular file: {}", what, path.string());
 }
 
 void CheckDirExists(const fs::path& path, const std::string& what) {
-  U4D_CHECK(fs::exists(path), "{} not found: {}", what, path.string());
-  U4D_CHECK(fs::is_directory(path), "{} is not a directory: {}", what, path.string());
+  const fs::file_status st = StatusOf(path, what);
+  U4D_CHECK(fs::exists(st), "{} not found: {}", what, path.string());
+  U4D_CHECK(fs::is_directory(st), "{} is not a directory: {}", what, path.string());
+}
+
+void CreateDirectories(const fs::path& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  U4D_CHECK(!ec, "cannot create directory {}: {}", dir.string(), ec.message());
 }
 
 std::string ReadTextFile(const fs::path& path) {
@@ -31,11 +53,7 @@ std::string ReadTextFile(const fs::path& path) {
 
 nlohmann::json ReadJsonFile(const fs::path& path) {
   const std::string text = ReadTextFile(path);
-  try {
-    return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    ThrowError(fmt::format("{}: invalid JSON ({})", path.string(), e.what()));
-  }
+  return ParseJsonText(text, path.string());
 }
 
 double JsonNumber(const nlohmann::json& v, const std::string& context, const std::string& what) {
@@ -46,12 +64,11 @@ double JsonNumber(const nlohmann::json& v, const std::string& context, const std
 }
 
 int64_t JsonInteger(const nlohmann::json& v, const std::string& context, const std::string& what) {
-  U4D_CHECK(v.is_number_integer(), "{}: {} must be an integer, found {}", context, what, v.dump());
-  return v.get<int64_t>();
+  return JsonAs<int64_t>(v, context, what);
 }
 
 void WriteAtomically(const fs::path& path, const std::function<void(const fs::path&)>& write_to) {
-  if (path.has_parent_path()) fs::create_directories(path.parent_path());
+  if (path.has_parent_path()) CreateDirectories(path.parent_path());
   // Keep the extension last so writers that pick the format from it work.
   const fs::path tmp =
       path.parent_path() /
@@ -59,7 +76,9 @@ void WriteAtomically(const fs::path& path, const std::function<void(const fs::pa
   try {
     write_to(tmp);
     U4D_CHECK(fs::exists(tmp), "writing {} produced no file", path.string());
-    fs::rename(tmp, path);
+    std::error_code ec;
+    fs::rename(tmp, path, ec);
+    U4D_CHECK(!ec, "cannot rename {} to {}: {}", tmp.string(), path.string(), ec.message());
   } catch (...) {
     std::error_code ec;
     fs::remove(tmp, ec);

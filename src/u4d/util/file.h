@@ -19,9 +19,13 @@ void CheckFileExists(const fs::path& path, const std::string& what = "file");
 // Throws if `path` does not exist or is not a directory.
 void CheckDirExists(const fs::path& path, const std::string& what = "directory");
 
+// fs::create_directories with a u4d::Error naming the path on failure.
+void CreateDirectories(const fs::path& dir);
+
 std::string ReadTextFile(const fs::path& path);
 
-// Parses JSON; a syntax error is reported with the file name and position.
+// Parses JSON; a syntax error or a number overflow (1e999) is reported with
+// the file name and position (util/json_checked.h has the checked accessors).
 nlohmann::json ReadJsonFile(const fs::path& path);
 
 // Writes by calling `write_to(tmp_path)`, then renames tmp onto `path`.
@@ -32,13 +36,14 @@ void WriteAtomically(const fs::path& path, const std::function<void(const fs::pa
 void WriteTextFileAtomic(const fs::path& path, const std::string& text);
 void WriteJsonFileAtomic(const fs::path& path, const nlohmann::json& json, int indent = 1);
 
-// Typed access to a JSON field with an error naming `context` (usually the
-// file) and the key when the field is missing or has the wrong type.
 // A JSON value that must be a finite number / an integer; errors name
 // `context` (usually the file) and `what` (the field).
 double JsonNumber(const nlohmann::json& v, const std::string& context, const std::string& what);
 int64_t JsonInteger(const nlohmann::json& v, const std::string& context, const std::string& what);
 
+// Typed access to a JSON field with an error naming `context` (usually the
+// file) and the key when the field is missing or has the wrong type; the same
+// as JsonRequired (util/json_checked.h), numbers range-checked.
 template <typename T>
 T JsonGet(const nlohmann::json& j, const std::string& key, const std::string& context);
 
