@@ -125,9 +125,7 @@ std::vector<int> MeshObjectIds(const fs::path& dir) {
   if (!fs::is_directory(dir)) return ids;
   for (const auto& entry : fs::directory_iterator(dir)) {
     const std::string name = entry.path().filename().string();
-    if (entry.is_directory() && !name.empty() &&
-        name.find_first_not_of("0123456789") == std::string::npos)
-      ids.push_back(std::stoi(name));
+    if (const auto id = ParseIndexName(name); entry.is_directory() && id) ids.push_back(*id);
   }
   std::sort(ids.begin(), ids.end());
   return ids;

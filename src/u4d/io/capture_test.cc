@@ -4,6 +4,7 @@
 
 #include "u4d/io/frame_reader.h"
 #include "u4d/io/image_io.h"
+#include "u4d/io/instance_mask.h"
 #include "u4d/io/layout.h"
 #include "u4d/util/check.h"
 #include "u4d/util/testing.h"
@@ -169,6 +170,32 @@ TEST(Capture, ExtraCameraIsAnError) {
   WriteJsonFileAtomic(dir / "calibration.json", calib);
   test_util::ExpectErrorMentions([&] { ReadCapture(dir); },
                                  {"calibration.json", "view cam1", "more than one camera record"});
+}
+
+TEST(InstanceMask, MalformedJsonIsAnErrorNamingFileAndField) {
+  using test_util::ExpectErrorMentions;
+  const fs::path dir = FreshDir("mask");
+  InstanceMask mask;
+  mask.ids = cv::Mat(4, 4, CV_16UC1, cv::Scalar(0));
+  mask.ids.at<uint16_t>(1, 1) = 3;
+  mask.instances = {{3, "person", 0.5}};
+  WriteInstanceMask(dir / "m.png", dir / "m.json", mask);
+  EXPECT_EQ(ReadInstanceMask(dir / "m.png", dir / "m.json").instances.at(0).score, 0.5);
+  const auto with = [&](const std::string& text) {
+    WriteTextFileAtomic(dir / "m.json", text);
+    return [&] { ReadInstanceMask(dir / "m.png", dir / "m.json"); };
+  };
+  ExpectErrorMentions(with(R"({"instances": [{"id": 3, "class": 2}]})"),
+                      {"m.json", "'class'", "must be a string"});
+  ExpectErrorMentions(with(R"({"instances": [{"id": 3, "score": "high"}]})"),
+                      {"m.json", "'score'", "must be a number"});
+  ExpectErrorMentions(with(R"({"instances": [{"id": 3, "score": 1e999}]})"),
+                      {"m.json", "invalid JSON"});
+  ExpectErrorMentions(with(R"({"instances": [{"id": 4294967299}]})"),
+                      {"m.json", "'id'", "out of range"});
+  ExpectErrorMentions(with(R"({"instances": [7]})"), {"m.json", "expected a JSON object"});
+  ExpectErrorMentions(with(R"([1, 2])"), {"m.json", "expected a JSON object"});
+  ExpectErrorMentions(with(R"({"instances": {}})"), {"m.json", "'instances'", "must be an array"});
 }
 
 }  // namespace

@@ -578,7 +578,8 @@ void WriteIndex(const Context& c, const KeyframeSelection& sel, const std::vecto
   std::set<int> ids;
   if (fs::is_directory(c.out / "meshes"))
     for (const auto& e : fs::directory_iterator(c.out / "meshes"))
-      if (e.is_directory()) ids.insert(std::stoi(e.path().filename().string()));
+      if (const auto id = ParseIndexName(e.path().filename().string()); e.is_directory() && id)
+        ids.insert(*id);  // stray entries (meshes/abc) are not objects
   for (int id : ids) {
     const cv::Vec3b col = InstanceColor(id);
     index.objects.push_back({id, "person", {col[0], col[1], col[2]}});

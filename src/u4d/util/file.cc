@@ -42,6 +42,12 @@ void CreateDirectories(const fs::path& dir) {
   U4D_CHECK(!ec, "cannot create directory {}: {}", dir.string(), ec.message());
 }
 
+std::optional<int> ParseIndexName(const std::string& name) {
+  if (name.empty() || name.size() > 9) return std::nullopt;  // 9 digits fit an int
+  if (name.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
+  return std::stoi(name);
+}
+
 std::string ReadTextFile(const fs::path& path) {
   CheckFileExists(path);
   std::ifstream in(path, std::ios::binary);

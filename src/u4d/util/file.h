@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -21,6 +22,11 @@ void CheckDirExists(const fs::path& path, const std::string& what = "directory")
 
 // fs::create_directories with a u4d::Error naming the path on failure.
 void CreateDirectories(const fs::path& dir);
+
+// The non-negative integer spelled by `name` (decimal digits only, fitting an
+// int), e.g. an object id folder "7"; nullopt for anything else ("abc",
+// "-1", "7.tmp", ""), so stray entries in an output folder can be skipped.
+std::optional<int> ParseIndexName(const std::string& name);
 
 std::string ReadTextFile(const fs::path& path);
 

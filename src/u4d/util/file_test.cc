@@ -58,3 +58,31 @@ TEST(File, JsonGetReportsMissingAndWrongType) {
 
 }  // namespace
 }  // namespace u4d
+
+namespace u4d {
+namespace {
+
+TEST(File, ParseIndexNameAcceptsOnlyDecimalIndices) {
+  EXPECT_EQ(ParseIndexName("7"), 7);
+  EXPECT_EQ(ParseIndexName("000042"), 42);
+  EXPECT_EQ(ParseIndexName("123456789"), 123456789);
+  for (const char* stray : {"", "abc", "-1", "7.tmp", "1e3", " 7", "99999999999"})
+    EXPECT_EQ(ParseIndexName(stray), std::nullopt) << stray;
+}
+
+TEST(File, WriteIntoAnUnwritablePlaceNamesThePath) {
+  // A regular file where a parent directory should be.
+  const fs::path dir = fs::temp_directory_path() / ("u4d_file_test_w_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  WriteTextFileAtomic(dir / "blocker", "x");
+  try {
+    WriteTextFileAtomic(dir / "blocker" / "sub" / "a.txt", "y");
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot create directory"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("blocker/sub"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace u4d
