@@ -8,6 +8,8 @@
 
 #include "apps/commands.h"
 #include "u4d/init/init.h"
+#include "u4d/io/layout.h"
+#include "u4d/io/output_dir.h"
 #include "u4d/joint/parameters.h"
 #include "u4d/pipeline/pipeline.h"
 #include "u4d/util/file.h"
@@ -27,6 +29,10 @@ struct RunArgs {
 
 int Run(RunArgs& a) {
   RunOptions& o = a.options;
+  CheckOutputDir(a.out, {.command = "u4d run",
+                         .input_roots = {a.capture},
+                         .markers = {layout::SceneRunLog().string(),
+                                     layout::SceneParams().string()}});
   o.masks = MaskSourceFromString(a.masks);
   o.poses = PoseSourceFromString(a.poses);
   o.init.box_fill = BoxFillFromString(a.box_fill);
@@ -59,8 +65,11 @@ Command MakeRunCommand() {
             RunOptions& o = a->options;
             app.add_option("capture", a->capture, "capture directory (capture.json)")->required();
             app.add_option("-o,--output", a->out, "scene directory to write")->required();
-            app.add_option("--first-frame", o.first_frame, "first frame")->capture_default_str();
+            app.add_option("--first-frame", o.first_frame, "first frame")
+                ->check(CLI::NonNegativeNumber)
+                ->capture_default_str();
             app.add_option("--frames", o.num_frames, "frames to run (-1 = to the end)")
+                ->check(CLI::Range(-1, 10000000))
                 ->capture_default_str();
             app.add_option("--masks", a->masks, "initial masks: auto, given, unsupervised")
                 ->capture_default_str();
@@ -70,23 +79,30 @@ Command MakeRunCommand() {
                 ->capture_default_str();
             app.add_option("--working-width", o.frame_setup.working_width,
                            "width at which the joint optimisation runs")
+                ->check(CLI::Range(16, 100000))
                 ->capture_default_str();
             app.add_option("--rounds", o.joint.rounds, "alternations of the l, d, m blocks")
+                ->check(CLI::Range(1, 100))
                 ->capture_default_str();
             app.add_option("--motion-candidates", o.joint.motion_candidates_per_pixel,
                            "motions a pixel may take in the motion block (0 = all)")
+                ->check(CLI::Range(0, 10000))
                 ->capture_default_str();
             app.add_option("--poisson-depth", o.fusion.poisson_depth,
                            "octree depth of each object's Poisson surface")
+                ->check(CLI::Range(1, 16))
                 ->capture_default_str();
             app.add_option("--picture-width", o.picture_width, "viewer picture width (0 = full)")
+                ->check(CLI::Range(0, 100000))
                 ->capture_default_str();
             app.add_option("--threads", o.threads, "views solved in parallel (0 = all cores)")
+                ->check(CLI::Range(0, 4096))
                 ->capture_default_str();
             app.add_option("--config", a->config,
                            "JSON file with \"weights\" overriding the paper's");
             app.add_option("--pose-smoothing", o.pose_smoothing.window_seconds,
                            "seconds of the window smoothing poses from 2D over time (0 = off)")
+                ->check(CLI::Range(0.0, 60.0))
                 ->capture_default_str();
             app.add_flag("!--no-joint-tracks", o.tracks.add_joint_tracks,
                          "do not add the projected 3D joints to the sparse tracks");

@@ -6,6 +6,7 @@
 
 #include "apps/commands.h"
 #include "apps/data_dir.h"
+#include "u4d/io/output_dir.h"
 #include "u4d/synth/generate.h"
 
 namespace u4d::apps {
@@ -27,10 +28,26 @@ struct SynthArgs {
   bool no_meshes = false;
   int clean_plate = 0;
   bool still = false;
+  bool force = false;
   int start_frame = -1;
 };
 
 }  // namespace
+
+// Refuses a non-empty output folder unless --force; with --force a previous
+// capture there (capture.json) is removed first, so no stale views or frames
+// of it remain in the new one.
+void PrepareSynthOutput(const fs::path& out, bool force) {
+  const OutputDirState state = CheckOutputDir(
+      out, {.command = "u4d synth", .force = force, .force_flag = "--force"});
+  if (state != OutputDirState::kForced || !fs::exists(out / "capture.json")) return;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(out, ec)) {
+    fs::remove_all(entry.path(), ec);
+    U4D_CHECK(!ec, "u4d synth --output {}: cannot remove {}: {}", out.string(),
+              entry.path().string(), ec.message());
+  }
+}
 
 void PrintSynthSummary(const synth::SynthSummary& s, const std::string& dir) {
   fmt::print(
@@ -93,11 +110,16 @@ Command MakeSynthCommand() {
               presets += (presets.empty() ? "" : " | ") + n;
             app.add_option("--preset", a->preset, presets)->capture_default_str();
             app.add_option("-o,--output", a->out, "capture directory to write")->required();
-            app.add_option("--frames", a->frames, "number of frames (default: the preset's)");
-            app.add_option("--views", a->views, "number of cameras (default 8)");
-            app.add_option("--width", a->width, "image width (default 960)");
-            app.add_option("--height", a->height, "image height (default 540)");
-            app.add_option("--people", a->people, "meetup: number of people (>= 3)");
+            app.add_option("--frames", a->frames, "number of frames (default: the preset's)")
+                ->check(CLI::Range(1, 100000));
+            app.add_option("--views", a->views, "number of cameras (default 8)")
+                ->check(CLI::Range(1, 1000));
+            app.add_option("--width", a->width, "image width (default 960)")
+                ->check(CLI::Range(16, 16384));
+            app.add_option("--height", a->height, "image height (default 540)")
+                ->check(CLI::Range(16, 16384));
+            app.add_option("--people", a->people, "meetup: number of people (>= 3)")
+                ->check(CLI::Range(1, 100));
             app.add_option("--seed", a->seed, "random seed")->capture_default_str();
             app.add_option("--mocap", a->mocap,
                            "meetup: BVH clip (default: the CMU 131 walk shipped in data/mocap)");
@@ -113,12 +135,15 @@ Command MakeSynthCommand() {
                            "frames of the empty stage to write as clean plates (background/)")
                 ->check(CLI::NonNegativeNumber);
             app.add_flag("--still", a->still, "the people stand still (the first frame's pose)");
+            app.add_flag("--force", a->force,
+                         "write into a non-empty folder (a previous capture there is replaced)");
             app.add_option("--start-frame", a->start_frame,
                            "first script frame of the capture (-1: the window centred on the "
                            "first handshake)")
                 ->capture_default_str();
           },
           [=] {
+            PrepareSynthOutput(a->out, a->force);
             synth::SynthOptions o =
                 SynthOptionsFromArgs(a->preset, a->frames, a->views, a->width, a->height, a->people,
                                      a->seed, a->mocap, a->captured_meshes, a->degrade);

@@ -16,6 +16,7 @@
 
 #include "apps/commands.h"
 #include "u4d/io/layout.h"
+#include "u4d/io/output_dir.h"
 #include "u4d/io/scene_index.h"
 #include "u4d/util/check.h"
 #include "u4d/util/file.h"
@@ -85,6 +86,14 @@ int RunView(const ViewArgs& a) {
   return 0;
 }
 
+// fs::copy (recursive, overwriting) with a u4d::Error naming both paths.
+void CopyOrThrow(const fs::path& from, const fs::path& to) {
+  std::error_code ec;
+  fs::copy(from, to, fs::copy_options::recursive | fs::copy_options::overwrite_existing, ec);
+  U4D_CHECK(!ec, "u4d export-viewer: cannot copy {} to {}: {}", from.string(), to.string(),
+            ec.message());
+}
+
 struct ExportArgs {
   std::string scene;
   std::string out;
@@ -100,12 +109,13 @@ int RunExport(const ExportArgs& a) {
   const SceneIndex index = ReadSceneIndex(scene);
   const fs::path viewer = FindViewer(a.viewer_dir);
   const fs::path out = a.out;
-  fs::create_directories(out);
+  CheckOutputDir(out, {.command = "u4d export-viewer",
+                       .inputs = {scene, viewer},
+                       .markers = {"index.html"}});
   for (const auto& entry : fs::directory_iterator(viewer))
-    fs::copy(entry.path(), out / entry.path().filename(),
-             fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+    CopyOrThrow(entry.path(), out / entry.path().filename());
   const fs::path dest = out / "scene";
-  fs::create_directories(dest);
+  CreateDirectories(dest);
   const std::vector<std::string> read_by_viewer = {layout::SceneIndex().string(),
                                                    layout::SceneCalibration().string(),
                                                    layout::SceneEval().string(),
@@ -121,8 +131,7 @@ int RunExport(const ExportArgs& a) {
     if (!a.all &&
         std::find(read_by_viewer.begin(), read_by_viewer.end(), name) == read_by_viewer.end())
       continue;
-    fs::copy(entry.path(), dest / name,
-             fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+    CopyOrThrow(entry.path(), dest / name);
   }
   for (const auto& e : fs::recursive_directory_iterator(out))
     if (e.is_regular_file()) bytes += static_cast<int64_t>(e.file_size());
@@ -142,7 +151,9 @@ Command MakeViewCommand() {
       "view", "serve the web viewer of a 4D scene on 127.0.0.1 and print its address",
       [=](CLI::App& app) {
         app.add_option("scene", a->scene, "scene directory (output of u4d run)")->required();
-        app.add_option("--port", a->port, "TCP port (0 = any free port)")->capture_default_str();
+        app.add_option("--port", a->port, "TCP port, 1-65535 (0 = any free port)")
+            ->check(CLI::Range(0, 65535))
+            ->capture_default_str();
         app.add_option("--viewer-dir", a->viewer_dir, "the built viewer (viewer/dist)");
       },
       [=] { return RunView(*a); }};
