@@ -67,6 +67,13 @@ int RunView(const ViewArgs& a) {
   ReadSceneIndex(scene);  // fails early, naming the problem, on a bad scene
   const fs::path viewer = FindViewer(a.viewer_dir);
   httplib::Server server;
+  // cpp-httplib's default sets SO_REUSEPORT too, which lets a second server
+  // share a busy port (requests then alternate between two scenes); only
+  // SO_REUSEADDR (restart without waiting for TIME_WAIT) is wanted.
+  server.set_socket_options([](socket_t sock) {
+    int yes = 1;
+    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, reinterpret_cast<const void*>(&yes), sizeof(yes));
+  });
   U4D_CHECK(server.set_mount_point("/scene", scene.string()), "cannot serve {}", scene.string());
   U4D_CHECK(server.set_mount_point("/", viewer.string()), "cannot serve {}", viewer.string());
   server.set_file_extension_and_mimetype_mapping("ply", "application/octet-stream");
@@ -78,7 +85,9 @@ int RunView(const ViewArgs& a) {
     U4D_CHECK(port > 0, "cannot bind a port on 127.0.0.1");
   } else {
     U4D_CHECK(server.bind_to_port("127.0.0.1", port),
-              "cannot bind 127.0.0.1:{} (in use? try --port 0 for a free one)", port);
+              "cannot listen on 127.0.0.1:{}: the port is in use (another `u4d view`?) or "
+              "not allowed; pick another with --port, or --port 0 for any free one",
+              port);
   }
   fmt::print("serving {} at http://127.0.0.1:{}/ (Ctrl-C to stop)\n", scene.string(), port);
   std::fflush(stdout);

@@ -47,7 +47,34 @@ function setStatus(text) { $('status').textContent = text; }
 
 // ---------------------------------------------------------------- three.js
 const canvas = $('canvas3d');
-const renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+
+// Without WebGL the page says so instead of staying blank.
+function webglAvailable() {
+  try {
+    const probe = document.createElement('canvas');
+    return !!(probe.getContext('webgl2') || probe.getContext('webgl'));
+  } catch (e) {
+    return false;
+  }
+}
+
+function showFatal(text) {
+  const box = $('fatal');
+  box.textContent = text;
+  box.hidden = false;
+  setStatus(text);
+}
+
+let renderer;
+try {
+  if (!webglAvailable()) throw new Error('no WebGL context could be created');
+  renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+} catch (e) {
+  showFatal('The U4D viewer needs WebGL, which this browser does not provide (' + e.message +
+            '). Enable hardware acceleration or WebGL in the browser settings, or try another ' +
+            'browser.');
+  throw e;
+}
 renderer.setPixelRatio(window.devicePixelRatio);
 const scene3 = new THREE.Scene();
 scene3.background = new THREE.Color(0x1e1f22);
