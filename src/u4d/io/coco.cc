@@ -122,8 +122,8 @@ CocoFile ParseCoco(const json& j, const std::string& context) {
     image.file_name = JsonGet<std::string>(im, "file_name", ctx);
     image.width = JsonGet<int>(im, "width", ctx);
     image.height = JsonGet<int>(im, "height", ctx);
-    U4D_CHECK(image.width > 0 && image.height > 0, "{}: bad size {}x{}", ctx, image.width,
-              image.height);
+    U4D_CHECK(image.width > 0 && image.height > 0 && image.width < 100000 && image.height < 100000,
+              "{}: bad size {}x{} (expected 1-99999 each)", ctx, image.width, image.height);
     coco.images.push_back(image);
   }
   if (j.contains("categories")) {
