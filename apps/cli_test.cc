@@ -120,8 +120,8 @@ TEST(Cli, OutputFoldersAreCheckedBeforeAnyWork) {
               {"u4d run --output", "is the input"});
   // A regular file in the way.
   WriteTextFileAtomic(dir / "blocker", "x");
-  ExpectFails({"run", cap.string(), "-o", (dir / "blocker" / "scene").string(), "--no-progress"},
-              1, {"u4d run --output", "blocker/scene", "cannot"});
+  ExpectFails({"run", cap.string(), "-o", (dir / "blocker" / "scene").string(), "--no-progress"}, 1,
+              {"u4d run --output", "blocker/scene", "cannot"});
   ExpectFails({"synth", "-o", (dir / "blocker").string(), "--frames", "1"}, 1,
               {"u4d synth --output", "blocker", "not a directory"});
   // A non-empty folder that is not a previous scene / capture.

@@ -29,10 +29,10 @@ struct RunArgs {
 
 int Run(RunArgs& a) {
   RunOptions& o = a.options;
-  CheckOutputDir(a.out, {.command = "u4d run",
-                         .input_roots = {a.capture},
-                         .markers = {layout::SceneRunLog().string(),
-                                     layout::SceneParams().string()}});
+  CheckOutputDir(a.out,
+                 {.command = "u4d run",
+                  .input_roots = {a.capture},
+                  .markers = {layout::SceneRunLog().string(), layout::SceneParams().string()}});
   o.masks = MaskSourceFromString(a.masks);
   o.poses = PoseSourceFromString(a.poses);
   o.init.box_fill = BoxFillFromString(a.box_fill);

@@ -118,9 +118,8 @@ int RunExport(const ExportArgs& a) {
   const SceneIndex index = ReadSceneIndex(scene);
   const fs::path viewer = FindViewer(a.viewer_dir);
   const fs::path out = a.out;
-  CheckOutputDir(out, {.command = "u4d export-viewer",
-                       .inputs = {scene, viewer},
-                       .markers = {"index.html"}});
+  CheckOutputDir(
+      out, {.command = "u4d export-viewer", .inputs = {scene, viewer}, .markers = {"index.html"}});
   for (const auto& entry : fs::directory_iterator(viewer))
     CopyOrThrow(entry.path(), out / entry.path().filename());
   const fs::path dest = out / "scene";
@@ -156,16 +155,15 @@ int RunExport(const ExportArgs& a) {
 
 Command MakeViewCommand() {
   auto a = std::make_shared<ViewArgs>();
-  return {
-      "view", "serve the web viewer of a 4D scene on 127.0.0.1 and print its address",
-      [=](CLI::App& app) {
-        app.add_option("scene", a->scene, "scene directory (output of u4d run)")->required();
-        app.add_option("--port", a->port, "TCP port, 1-65535 (0 = any free port)")
-            ->check(CLI::Range(0, 65535))
-            ->capture_default_str();
-        app.add_option("--viewer-dir", a->viewer_dir, "the built viewer (viewer/dist)");
-      },
-      [=] { return RunView(*a); }};
+  return {"view", "serve the web viewer of a 4D scene on 127.0.0.1 and print its address",
+          [=](CLI::App& app) {
+            app.add_option("scene", a->scene, "scene directory (output of u4d run)")->required();
+            app.add_option("--port", a->port, "TCP port, 1-65535 (0 = any free port)")
+                ->check(CLI::Range(0, 65535))
+                ->capture_default_str();
+            app.add_option("--viewer-dir", a->viewer_dir, "the built viewer (viewer/dist)");
+          },
+          [=] { return RunView(*a); }};
 }
 
 Command MakeExportViewerCommand() {

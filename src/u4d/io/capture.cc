@@ -152,8 +152,9 @@ std::string FormatPattern(const std::string& pattern, int index, const std::stri
   try {
     return fmt::format(fmt::runtime(pattern), index);
   } catch (const fmt::format_error& e) {
-    ThrowError(fmt::format("{}: invalid path pattern '{}' ({}); expected one field such as {{:06d}}",
-                           context, pattern, e.what()));
+    ThrowError(
+        fmt::format("{}: invalid path pattern '{}' ({}); expected one field such as {{:06d}}",
+                    context, pattern, e.what()));
   }
 }
 

@@ -85,9 +85,9 @@ TEST(ImageIo, HugeHeadersOverShortDataAreRefusedBeforeAllocating) {
     out.write(reinterpret_cast<const char*>(&h), 4);
     out << "xxxxxxxx";
   }
-  test_util::ExpectErrorMentions([&] { ReadFlo(dir / "huge.flo"); },
-                                 {"huge.flo", "truncated", "99999x99999", "79998400008 bytes",
-                                  "but 8 bytes follow"});
+  test_util::ExpectErrorMentions(
+      [&] { ReadFlo(dir / "huge.flo"); },
+      {"huge.flo", "truncated", "99999x99999", "79998400008 bytes", "but 8 bytes follow"});
   { std::ofstream(dir / "huge.pfm", std::ios::binary) << "PF\n99999 99999\n-1\nxxxx"; }
   test_util::ExpectErrorMentions([&] { ReadPfm(dir / "huge.pfm"); },
                                  {"huge.pfm", "truncated", "99999x99999x3", "but 4 bytes follow"});

@@ -76,8 +76,8 @@ OutputDirState CheckOutputDir(const fs::path& dir, const OutputDirOptions& o) {
               what, input.string());
   std::error_code ec;
   const fs::file_status st = fs::status(dir, ec);
-  U4D_CHECK(!ec || st.type() == fs::file_type::not_found, "{}: cannot access the folder: {}",
-            what, ec.message());
+  U4D_CHECK(!ec || st.type() == fs::file_type::not_found, "{}: cannot access the folder: {}", what,
+            ec.message());
   OutputDirState state = OutputDirState::kCreated;
   if (fs::exists(st)) {
     U4D_CHECK(fs::is_directory(st), "{}: exists and is not a directory", what);

@@ -48,7 +48,7 @@ TEST(OutputDir, AnInputRootMayHoldTheOutputButNotBeIt) {
   OutputDirOptions o;
   o.command = "u4d run";
   o.input_roots = {root / "capture"};
-  ExpectErrorMentions([&] { CheckOutputDir(root / "capture" / "." , o); },
+  ExpectErrorMentions([&] { CheckOutputDir(root / "capture" / ".", o); },
                       {"u4d run --output", "is the input"});
   EXPECT_EQ(CheckOutputDir(root / "capture" / "scene", o), OutputDirState::kCreated);
 }

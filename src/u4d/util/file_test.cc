@@ -72,7 +72,8 @@ TEST(File, ParseIndexNameAcceptsOnlyDecimalIndices) {
 
 TEST(File, WriteIntoAnUnwritablePlaceNamesThePath) {
   // A regular file where a parent directory should be.
-  const fs::path dir = fs::temp_directory_path() / ("u4d_file_test_w_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("u4d_file_test_w_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   WriteTextFileAtomic(dir / "blocker", "x");
   try {

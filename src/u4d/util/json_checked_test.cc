@@ -77,9 +77,11 @@ TEST(JsonChecked, NonFiniteNumbersAreErrors) {
   j["nan"] = std::nan("");
   j["inf"] = std::numeric_limits<double>::infinity();
   ExpectErrorMentions([&] { JsonRequired<double>(j, "nan", "f.json"); }, {"'nan'", "not finite"});
-  ExpectErrorMentions([&] { JsonRequired<std::vector<double>>(json{{"v", {1.0, j["inf"]}}}, "v",
-                                                              "f.json"); },
-                      {"'v'[1]", "not finite"});
+  ExpectErrorMentions(
+      [&] {
+        JsonRequired<std::vector<double>>(json{{"v", {1.0, j["inf"]}}}, "v", "f.json");
+      },
+      {"'v'[1]", "not finite"});
 }
 
 TEST(JsonChecked, ParseErrorsNameTheContext) {
