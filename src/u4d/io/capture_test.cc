@@ -126,6 +126,9 @@ TEST(Capture, MalformedJsonIsAnErrorNamingFileAndField) {
   m = manifest;
   m["num_frames"] = 3e9;
   with_manifest(m);
+  ExpectErrorMentions(read, {"capture.json", "'num_frames'", "out of range"});
+  m["num_frames"] = 2.5;
+  with_manifest(m);
   ExpectErrorMentions(read, {"capture.json", "'num_frames'", "must be an integer"});
   m = manifest;
   m["views"] = 7;

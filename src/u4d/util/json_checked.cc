@@ -31,7 +31,15 @@ namespace json_detail {
 namespace {
 
 // The value of an integer JSON number as int64, or an error naming `where`.
+// A float with an integral value (960.0, as some writers emit) is accepted.
 int64_t Integer(const nlohmann::json& v, const std::string& where) {
+  if (v.is_number_float()) {
+    const double d = v.get<double>();
+    U4D_CHECK(std::isfinite(d) && d == std::trunc(d), "{} must be an integer, found {}", where,
+              JsonDescribe(v));
+    U4D_CHECK(std::abs(d) < 9.2e18, "{} is out of range ({})", where, d);
+    return static_cast<int64_t>(d);
+  }
   U4D_CHECK(v.is_number_integer(), "{} must be an integer, found {}", where, JsonDescribe(v));
   if (v.is_number_unsigned()) {
     const uint64_t u = v.get<uint64_t>();

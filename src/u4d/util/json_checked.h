@@ -2,7 +2,7 @@
 // naming `context` (usually the file), the key and what was found, so no
 // nlohmann exception (type error, missing key, number overflow) escapes a
 // reader. Numbers are checked: doubles must be finite, integers must be
-// integers within the range of the target type.
+// integral (960 or 960.0) and within the range of the target type.
 //
 //   const json& m = JsonObject(doc, "capture.json");
 //   int n = JsonRequired<int>(m, "num_frames", "capture.json");
