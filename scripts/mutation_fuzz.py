@@ -39,19 +39,19 @@ import tempfile
 
 # ------------------------------------------------------------------ JSON
 
-# Values a mutation may put anywhere; "bad" ones are non-finite or out of range
-# for any field U4D reads, so accepting them silently is a finding.
+# Values a mutation may put anywhere. Whether one is out of range depends on
+# the field, so only the non-finite tokens, an extra camera and the
+# structural cases known to be invalid count as "bad" when accepted.
 JSON_VALUES = [
-    ("null", None, False), ("true", True, False), ("zero", 0, False), ("neg", -1, True),
-    ("big_int", 2**31, True), ("huge_int", 2**64 - 1, True), ("neg_big", -(2**40), True),
-    ("frac", 0.5, False), ("string", "x", False), ("num_string", "3", False),
-    ("empty_array", [], False), ("empty_object", {}, False), ("array", [1, 2, 3], False),
-    ("nested", {"a": [None]}, False), ("pattern", "{:06q}", False),
+    ("null", None), ("true", True), ("zero", 0), ("neg", -1), ("big_int", 2**31),
+    ("huge_int", 2**64 - 1), ("neg_big", -(2**40)), ("frac", 0.5), ("string", "x"),
+    ("num_string", "3"), ("empty_array", []), ("empty_object", {}), ("array", [1, 2, 3]),
+    ("nested", {"a": [None]}), ("pattern", "{:06q}"),
 ]
 # Raw tokens that json.dumps cannot produce; spliced into the text.
 RAW_TOKENS = [("overflow", "1e999", True), ("neg_overflow", "-1e999", True),
               ("nan", "NaN", True), ("infinity", "Infinity", True),
-              ("tiny", "1e-999", False), ("long_int", "9" * 40, True)]
+              ("tiny", "1e-999", False), ("long_int", "9" * 40, False)]
 
 
 def json_paths(node, path=()):
@@ -88,8 +88,8 @@ def mutate_json(doc, rng):
     path, value = rng.choice(paths)
     op = rng.choice(["replace", "replace", "raw", "delete", "scale", "wrap", "text"])
     if op == "replace":
-        name, new, bad = rng.choice(JSON_VALUES)
-        return json.dumps(set_at(doc, path, copy.deepcopy(new))), f"replace:{name}", bad
+        name, new = rng.choice(JSON_VALUES)
+        return json.dumps(set_at(doc, path, copy.deepcopy(new))), f"replace:{name}", False
     if op == "raw":
         name, token, bad = rng.choice(RAW_TOKENS)
         text = json.dumps(set_at(doc, path, MARK))
@@ -100,9 +100,7 @@ def mutate_json(doc, rng):
         return json.dumps(doc), "delete", False
     if op == "scale" and isinstance(value, (int, float)) and not isinstance(value, bool):
         factor = rng.choice([-1, 1e6, 1e300, 0])
-        new = value * factor
-        bad = factor in (-1, 1e6, 1e300) and value != 0
-        return json.dumps(set_at(doc, path, new)), f"scale:{factor:g}", bad
+        return json.dumps(set_at(doc, path, value * factor)), f"scale:{factor:g}", False
     if op == "wrap":
         return json.dumps(set_at(doc, path, [value])), "wrap", False
     text = json.dumps(doc)
