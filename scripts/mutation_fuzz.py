@@ -31,6 +31,7 @@ import copy
 import json
 import os
 import random
+import re
 import shutil
 import struct
 import subprocess
@@ -148,7 +149,8 @@ def mutate_capture(doc, rng):
         kind = rng.choice(sorted(choices))
         return json.dumps(choices[kind]()), f"struct:{kind}", kind in bad_kinds
     if rng.random() < 0.5:
-        return json.dumps(doc).replace('"fps": 25', '"fps": 1e999', 1), "raw:fps_overflow", True
+        text = re.sub(r'"fps": [-0-9.eE+]+', '"fps": 1e999', json.dumps(doc), count=1)
+        return text, "raw:fps_overflow", True
     return mutate_json(doc, rng)
 
 
