@@ -133,6 +133,28 @@ TEST(Cli, OutputFoldersAreCheckedBeforeAnyWork) {
   EXPECT_EQ(ReadTextFile(dir / "mine" / "notes.txt"), "keep me");
 }
 
+// synth into a previous capture: refused without --force; with it, the old
+// capture is replaced, so no view of it is left beside the new ones.
+TEST(Cli, SynthForceReplacesAPreviousCapture) {
+  const fs::path dir = test_util::FreshTestDir("cli", "synth_force");
+  const std::string out = (dir / "cap").string();
+  const std::vector<std::string> tiny = {"synth",   "-o", out,        "--frames", "1",
+                                         "--width", "32", "--height", "24",       "--no-meshes"};
+  std::vector<std::string> three = tiny;
+  three.insert(three.end(), {"--views", "3"});
+  const Result first = RunU4d(three);
+  ASSERT_EQ(first.status, 0) << first.output;
+  ASSERT_TRUE(fs::exists(dir / "cap" / "images" / "cam02"));
+  std::vector<std::string> two = tiny;
+  two.insert(two.end(), {"--views", "2"});
+  ExpectFails(two, 1, {"u4d synth --output", "not empty", "--force"});
+  two.push_back("--force");
+  const Result second = RunU4d(two);
+  ASSERT_EQ(second.status, 0) << second.output;
+  EXPECT_EQ(ReadCapture(dir / "cap").NumViews(), 2);
+  EXPECT_FALSE(fs::exists(dir / "cap" / "images" / "cam02"));
+}
+
 TEST(Cli, ExportViewerIntoTheSceneIsRefused) {
   const fs::path dir = test_util::FreshTestDir("cli", "export");
   SceneIndex index;
