@@ -29,10 +29,11 @@ struct RunArgs {
 
 int Run(RunArgs& a) {
   RunOptions& o = a.options;
-  CheckOutputDir(a.out,
-                 {.command = "u4d run",
-                  .input_roots = {a.capture},
-                  .markers = {layout::SceneRunLog().string(), layout::SceneParams().string()}});
+  OutputDirOptions out_dir;
+  out_dir.command = "u4d run";
+  out_dir.input_roots = {a.capture};
+  out_dir.markers = {layout::SceneRunLog().string(), layout::SceneParams().string()};
+  CheckOutputDir(a.out, out_dir);
   o.masks = MaskSourceFromString(a.masks);
   o.poses = PoseSourceFromString(a.poses);
   o.init.box_fill = BoxFillFromString(a.box_fill);

@@ -38,8 +38,11 @@ struct SynthArgs {
 // capture there (capture.json) is removed first, so no stale views or frames
 // of it remain in the new one.
 void PrepareSynthOutput(const fs::path& out, bool force) {
-  const OutputDirState state =
-      CheckOutputDir(out, {.command = "u4d synth", .force = force, .force_flag = "--force"});
+  OutputDirOptions options;
+  options.command = "u4d synth";
+  options.force = force;
+  options.force_flag = "--force";
+  const OutputDirState state = CheckOutputDir(out, options);
   if (state != OutputDirState::kForced || !fs::exists(out / "capture.json")) return;
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(out, ec)) {

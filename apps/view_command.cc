@@ -118,8 +118,11 @@ int RunExport(const ExportArgs& a) {
   const SceneIndex index = ReadSceneIndex(scene);
   const fs::path viewer = FindViewer(a.viewer_dir);
   const fs::path out = a.out;
-  CheckOutputDir(
-      out, {.command = "u4d export-viewer", .inputs = {scene, viewer}, .markers = {"index.html"}});
+  OutputDirOptions out_dir;
+  out_dir.command = "u4d export-viewer";
+  out_dir.inputs = {scene, viewer};
+  out_dir.markers = {"index.html"};
+  CheckOutputDir(out, out_dir);
   for (const auto& entry : fs::directory_iterator(viewer))
     CopyOrThrow(entry.path(), out / entry.path().filename());
   const fs::path dest = out / "scene";
