@@ -138,7 +138,7 @@ TEST(Cli, OutputFoldersAreCheckedBeforeAnyWork) {
 TEST(Cli, SynthForceReplacesAPreviousCapture) {
   const fs::path dir = test_util::FreshTestDir("cli", "synth_force");
   const std::string out = (dir / "cap").string();
-  const std::vector<std::string> tiny = {"synth",   "-o", out,        "--frames", "1",
+  const std::vector<std::string> tiny = {"synth",   "-o", out,        "--frames", "2",
                                          "--width", "32", "--height", "24",       "--no-meshes"};
   std::vector<std::string> three = tiny;
   three.insert(three.end(), {"--views", "3"});
