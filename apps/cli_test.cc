@@ -33,7 +33,9 @@ std::string Quote(const std::string& s) {
 }
 
 Result RunU4d(const std::vector<std::string>& args) {
-  std::string cmd = Quote(U4D_BINARY);
+  // Bounded, so that a regression (e.g. a server that does start) fails
+  // with status 124 instead of hanging the test.
+  std::string cmd = "timeout 120 " + Quote(U4D_BINARY);
   for (const std::string& a : args) cmd += " " + Quote(a);
   cmd += " 2>&1";
   Result r;
