@@ -185,6 +185,21 @@ try {
   const drawn = await page.evaluate(() => window.u4d.state.drawn);
   check(drawn >= 4, `playing draws frames (${drawn} drawn so far)`);
   check(errors.length === 0, `no page errors${errors.length ? ': ' + errors.join(' | ') : ''}`);
+
+  // Without WebGL the page says so instead of staying blank.
+  const noGl = await chromium.launch({
+    executablePath: chromiumPath, headless: true,
+    args: ['--disable-webgl', '--disable-3d-apis', '--no-sandbox'],
+  });
+  try {
+    const bare = await noGl.newPage();
+    await bare.goto(url);
+    await bare.waitForSelector('#fatal:not([hidden])', { timeout: 10000 }).catch(() => {});
+    const fatal = await bare.$eval('#fatal', (e) => (e.hidden ? '' : e.textContent));
+    check(fatal.includes('needs WebGL'), `without WebGL the page says so ('${fatal.slice(0, 50)}')`);
+  } finally {
+    await noGl.close();
+  }
 } finally {
   await browser.close();
   server.kill();
