@@ -157,8 +157,8 @@ TEST(Cli, SynthForceReplacesAPreviousCapture) {
   EXPECT_FALSE(fs::exists(dir / "cap" / "images" / "cam02"));
 }
 
-TEST(Cli, ExportViewerIntoTheSceneIsRefused) {
-  const fs::path dir = test_util::FreshTestDir("cli", "export");
+// dir/scene: a one-frame scene index; dir/viewer: a stand-in for the viewer's files.
+void WriteTinySceneAndViewer(const fs::path& dir) {
   SceneIndex index;
   index.name = "tiny";
   index.frames = {0};
@@ -166,6 +166,11 @@ TEST(Cli, ExportViewerIntoTheSceneIsRefused) {
   WriteSceneIndex(dir / "scene", index);
   WriteTextFileAtomic(dir / "viewer" / "index.html", "<html></html>");
   WriteTextFileAtomic(dir / "viewer" / "viewer.js", "");
+}
+
+TEST(Cli, ExportViewerIntoTheSceneIsRefused) {
+  const fs::path dir = test_util::FreshTestDir("cli", "export");
+  WriteTinySceneAndViewer(dir);
   ExpectFails({"export-viewer", (dir / "scene").string(), "-o", (dir / "scene" / "site").string(),
                "--viewer-dir", (dir / "viewer").string()},
               1, {"u4d export-viewer --output", "inside it"});
@@ -203,13 +208,7 @@ class BusyPort {
 
 TEST(Cli, ViewOnABusyPortFails) {
   const fs::path dir = test_util::FreshTestDir("cli", "view");
-  SceneIndex index;
-  index.name = "tiny";
-  index.frames = {0};
-  index.views = {{"cam0", 8, 6}};
-  WriteSceneIndex(dir / "scene", index);
-  WriteTextFileAtomic(dir / "viewer" / "index.html", "<html></html>");
-  WriteTextFileAtomic(dir / "viewer" / "viewer.js", "");
+  WriteTinySceneAndViewer(dir);
   const BusyPort busy;
   ExpectFails({"view", (dir / "scene").string(), "--port", std::to_string(busy.port()),
                "--viewer-dir", (dir / "viewer").string()},
