@@ -1,7 +1,9 @@
 // Helpers shared by the GoogleTest suites. Include from *_test.cc only.
 #pragma once
 
+#include <set>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -13,11 +15,33 @@
 
 namespace u4d::test_util {
 
+// The temporary folders of this test process, removed when it exits unless
+// a test failed (they are then kept for a look at what it wrote).
+class TempDirs {
+ public:
+  static void Register(const fs::path& dir) { Instance().dirs_.insert(dir); }
+
+ private:
+  static TempDirs& Instance() {
+    static TempDirs dirs;
+    return dirs;
+  }
+  ~TempDirs() {
+    if (!::testing::UnitTest::GetInstance()->Passed()) return;
+    std::error_code ignored;  // a folder already gone is fine
+    for (const fs::path& dir : dirs_) fs::remove_all(dir, ignored);
+  }
+  std::set<fs::path> dirs_;
+};
+
 // An empty directory <tmp>/u4d_<suite>_<pid>/<name>: one per process, since
 // ctest runs the tests of a suite in separate processes, in parallel.
+// <tmp>/u4d_<suite>_<pid> goes when the process exits (TempDirs).
 inline fs::path FreshTestDir(const std::string& suite, const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("u4d_" + suite + "_" + std::to_string(::getpid())) / name;
+  const fs::path root =
+      fs::temp_directory_path() / ("u4d_" + suite + "_" + std::to_string(::getpid()));
+  TempDirs::Register(root);
+  const fs::path dir = root / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
