@@ -17,7 +17,7 @@ TEST(JsonChecked, ReadsFieldsOfEachType) {
   EXPECT_EQ(JsonRequired<int>(j, "i", "f.json"), -7);
   EXPECT_EQ(JsonRequired<int64_t>(j, "big", "f.json"), 5000000000LL);
   EXPECT_EQ(JsonRequired<double>(j, "d", "f.json"), 2.5);
-  EXPECT_EQ(JsonRequired<double>(j, "i", "f.json"), -7.0);  // an integer is a number
+  EXPECT_EQ(JsonRequired<double>(j, "i", "f.json"), -7.0);               // an integer is a number
   EXPECT_EQ(JsonRequired<int>(json{{"w", 960.0}}, "w", "f.json"), 960);  // an integral float
   EXPECT_EQ(JsonRequired<std::string>(j, "s", "f.json"), "x");
   EXPECT_EQ(JsonRequired<std::vector<int>>(j, "v", "f.json"), (std::vector<int>{1, 2}));
@@ -67,8 +67,11 @@ TEST(JsonChecked, IntegersOutOfRangeOrFractionalAreErrors) {
                       {"'frac'", "must be an integer"});
   ExpectErrorMentions([&] { JsonRequired<int64_t>(j, "huge", "f.json"); },
                       {"'huge'", "out of range"});
-  ExpectErrorMentions([&] { JsonRequired<int>(json{{"f", 3e9}}, "f", "f.json"); },
-                      {"'f'", "out of range"});
+  ExpectErrorMentions(
+      [&] {
+        JsonRequired<int>(json{{"f", 3e9}}, "f", "f.json");
+      },
+      {"'f'", "out of range"});
   ExpectErrorMentions([&] { JsonRequiredInt(j, "big", 1, 10, "f.json"); }, {"out of range"});
   const json k = json::parse(R"({"n": 11})");
   ExpectErrorMentions([&] { JsonRequiredInt(k, "n", 1, 10, "f.json"); },
