@@ -166,21 +166,17 @@ BackgroundModel BackgroundFromPlate(const std::vector<cv::Mat>& plate, int num_f
                                     const BackgroundOptions& options) {
   options.Check();
   U4D_CHECK(!plate.empty(), "BackgroundFromPlate: no clean-plate frame given");
-  std::vector<cv::Mat> plate_labs;
-  for (size_t i = 0; i < plate.size(); ++i) {
-    CheckFrame(plate[i], fmt::format("BackgroundFromPlate: plate frame {}", i));
-    U4D_CHECK(plate[i].size() == plate[0].size(),
-              "BackgroundFromPlate: plate frame {} is {}x{}, the first {}x{}", i, plate[i].cols,
-              plate[i].rows, plate[0].cols, plate[0].rows);
-    plate_labs.push_back(ToLab(plate[i]));
-  }
+  // All the plate's frames (up to max_frames), checked as the take's are.
+  const std::vector<cv::Mat> plate_labs = SampledLabs(
+      static_cast<int>(plate.size()), [&](int i) { return plate[i]; }, options,
+      "BackgroundFromPlate: clean plate");
   BackgroundModel model = MedianOfLab(plate_labs);
   const std::vector<cv::Mat> labs =
       SampledLabs(num_frames, read_frame, options, "BackgroundFromPlate");
-  U4D_CHECK(labs[0].size() == plate[0].size(),
+  U4D_CHECK(labs[0].size() == plate_labs[0].size(),
             "BackgroundFromPlate: the frames are {}x{}, the clean plate {}x{}", labs[0].cols,
-            labs[0].rows, plate[0].cols, plate[0].rows);
-  if (static_cast<int>(plate.size()) < kMinPlateFramesForNoise) TakeNoise(labs, &model);
+            labs[0].rows, plate_labs[0].cols, plate_labs[0].rows);
+  if (static_cast<int>(plate_labs.size()) < kMinPlateFramesForNoise) TakeNoise(labs, &model);
   if (options.envelope) model.envelope = Envelope(labs, model, options);
   return model;
 }

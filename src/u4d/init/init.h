@@ -143,7 +143,8 @@ BackgroundModel EstimateBackground(int num_frames, const std::function<cv::Mat(i
 // From a clean plate (io/clean_plate.h: the empty stage filmed from the
 // view, one picture or a few frames) instead of the capture's own frames, so
 // that people who stay in place are foreground: the model is the per-pixel
-// median of the plate frames. The noise levels come from the plate when it
+// median of the plate frames (up to max_frames of them, evenly spread). The
+// noise levels come from the plate when it
 // has at least 3 frames; from fewer, the global level is the median
 // distance of the take's sampled frames to the plate (people are a minority
 // of the pixels) and there is no per-pixel level. The envelope (step 5) is

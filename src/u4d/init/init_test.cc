@@ -288,6 +288,45 @@ TEST(InitTest, StillPeopleWithoutAPlateFoundInHogBoxes) {
   EXPECT_GT(iou[2], 0.25);
 }
 
+// A person who never moves, on a flat grey stage with sensor noise: the
+// capture's own frames make them background, the plate does not. The
+// foreground must be the true square (IoU with it >= 0.95: only noise can
+// disagree), and plates that do not fit the frames are errors.
+TEST(InitTest, PlateFindsAPersonTheFramesHide) {
+  cv::RNG rng(3);
+  const auto noisy = [&](bool person) {
+    cv::Mat image(120, 160, CV_8UC3, cv::Scalar(120, 120, 120));
+    if (person) image(cv::Rect(60, 30, 30, 70)).setTo(cv::Scalar(40, 60, 170));
+    cv::Mat noise(image.size(), CV_16SC3);
+    rng.fill(noise, cv::RNG::NORMAL, 0, 1.5);
+    cv::Mat out;
+    cv::add(image, noise, out, cv::noArray(), CV_8UC3);
+    return out;
+  };
+  std::vector<cv::Mat> frames, plate;
+  for (int t = 0; t < 8; ++t) frames.push_back(noisy(true));
+  for (int k = 0; k < 3; ++k) plate.push_back(noisy(false));
+  const auto read = [&](int t) { return frames[t]; };
+  const cv::Mat truth = cv::Mat::zeros(120, 160, CV_8UC1);
+  truth(cv::Rect(60, 30, 30, 70)).setTo(255);
+  const auto iou = [&](const cv::Mat& fg) {
+    return cv::countNonZero(fg & truth) / static_cast<double>(cv::countNonZero(fg | truth));
+  };
+  EXPECT_LT(iou(ForegroundMask(frames[0], EstimateBackground(frames))), 0.05);
+  EXPECT_GE(iou(ForegroundMask(frames[0], BackgroundFromPlate(plate, 8, read))), 0.95);
+  EXPECT_GE(iou(ForegroundMask(frames[0], BackgroundFromPlate({plate[0]}, 8, read))), 0.95);
+
+  test_util::ExpectErrorMentions(
+      [&] {
+        BackgroundFromPlate({plate[0], cv::Mat(10, 10, CV_8UC3)}, 8, read);
+      },
+      {"clean plate", "frame 1"});
+  test_util::ExpectErrorMentions(
+      [&] { BackgroundFromPlate({cv::Mat(10, 10, CV_8UC3, cv::Scalar::all(9))}, 8, read); },
+      {"160x120", "10x10"});
+  EXPECT_THROW(BackgroundFromPlate({}, 8, read), Error);
+}
+
 TEST(InitTest, InstanceCountWhenPeopleApart) {
   const SynthFixture& f = Fixture();
   const int nv = f.capture.NumViews();
