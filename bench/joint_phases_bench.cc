@@ -1,5 +1,6 @@
 // Where the time of one joint view solve goes (src/u4d/joint/joint_view.h,
-// JointViewResult::phase_seconds; docs/joint.md, "Speed"): the full method on
+// JointViewResult::phases; docs/results.md, "Hot kernels and the phases of
+// one joint view solve"): the full method on
 // the same synthetic inputs as bench/joint_bench (handshake capture, GT 3D
 // poses and GT-sampled sparse motions), per-phase wall time averaged over the
 // solved views, and the accuracy of the result (instance IoU, depth within

@@ -1,5 +1,6 @@
 // Throughput of the hot kernels of the per-view joint optimisation and of the
-// fusion (issue 7, "Speed and memory"; docs/joint.md, "Speed"), on a generated
+// fusion (docs/results.md, "Hot kernels and the phases of one joint view
+// solve"), on a generated
 // handshake capture (8 views, frames 0 and 1) at 480x270 and 960x540:
 //   DepthCostVolume  ComputeDepthCostVolume, 64 labels, over a person ROI (GT
 //                    person pixels dilated by 8 px, as the solver's roi) or the

@@ -776,7 +776,7 @@ EOF
     cat <<'EOF'
 ## Hot kernels and the phases of one joint view solve
 
-`kernels_bench` (docs/joint.md, "Speed"): throughput of the depth and flow
+`kernels_bench`: throughput of the depth and flow
 cost volumes, max-flow, one alpha-expansion sweep, one fusion move, the
 colour-GMM fit (against cv::ml::EM, the implementation it replaced, in the
 same run) and Poisson reconstruction, at 480x270 and 960x540.

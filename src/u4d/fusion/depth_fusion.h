@@ -63,11 +63,11 @@ struct FusionOptions {
   double consistency_tolerance = 0.02;  // metres of depth difference counted as agreement
   double min_confidence = 0.0;          // drop points with a lower confidence (in [0, 1])
   int min_points = 100;                 // fewer oriented points: empty result
-  // Octree depth of the Poisson reconstruction. 7 takes half the time
+  // Octree depth of the Poisson reconstruction. 7 takes about half the time
   // (Open3D's surface extraction starts a thread per octree slice) for a
-  // quarter of the vertices, Chamfer +0.1 mm and a projection error of 0.179
-  // instead of 0.169 on the 8-view pipeline run (docs/fusion.md): a speed
-  // setting (`u4d run --poisson-depth 7`), not the default.
+  // quarter of the vertices and a slightly higher projection error
+  // (docs/fusion.md, "Octree depth"): a speed setting
+  // (`u4d run --poisson-depth 7`), not the default.
   int poisson_depth = 8;
   double poisson_scale = 1.1;            // Poisson bounding-cube scale over the points
   int poisson_threads = 1;               // Open3D Poisson threads (-1 = all; 1 is deterministic)

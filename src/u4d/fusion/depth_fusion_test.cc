@@ -36,9 +36,8 @@ class DepthFusionTest : public ::testing::Test {
 // pixel spans ~16 mm, and parts no camera sees (soles, the inside of the
 // touching hands, armpits) are closed by Poisson's smooth interpolation,
 // which costs completeness. The bound 12 mm = one Poisson cell plus the GT
-// mesh's own 4 mm tube-offset error (docs/synthetic.md). Measured: 7.7 and
-// 8.6 mm (docs/fusion.md); 8x960x540 gives 7.3 / 8.0 mm, so the Poisson
-// depth, not the pixel pitch, dominates.
+// mesh's own 4 mm tube-offset error (docs/synthetic.md). The Poisson depth,
+// not the pixel pitch, dominates (fusion_bench fuses at two sizes).
 TEST_F(DepthFusionTest, GtDepthGivesGtMesh) {
   for (int id = 1; id <= 2; ++id) {
     const FusedMesh fused =

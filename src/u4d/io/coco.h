@@ -30,8 +30,7 @@
 // w x h axis-aligned box covers exactly w * h pixels. cv::fillPoly is not
 // used: it fills the boundary pixels at both ends of every span, which makes
 // a w x h box (w + 1) x (h + 1) and every mask larger by about half a pixel
-// per unit of perimeter (on the COCO test images 2-3 % of the area, more
-// than COCO's own "area" field allows).
+// per unit of perimeter, more than COCO's own "area" field allows.
 //
 // Every reader throws u4d::Error naming the file (or the `context` string) on
 // a missing file, malformed JSON, missing or mistyped fields, an image that is

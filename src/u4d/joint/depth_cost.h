@@ -50,7 +50,7 @@ struct DepthCostOptions {
                                // channel: summed variance < nc * std^2) are textureless: m = 0.5
   bool use_color = true;       // ZNCC over the three BGR channels (else over grey values)
   double smooth_sigma = 0.0;   // Gaussian pre-smoothing of the images (pixels, 0 = none); it
-                               // lowered accuracy on the synthetic capture (docs/depth.md)
+                               // blurs the texture ZNCC relies on (docs/depth.md)
   void Check() const;          // throws u4d::Error naming the field on a bad value
 };
 

@@ -157,8 +157,9 @@ TEST(MotionLabelsTest, ParabolicRefinementFindsSubPixelMinimum) {
 // constrained pixel, so the WTA should stay under 1 px mean on the people; it
 // must remove at least half the zero-flow error.
 // DISABLED: the target below is for the winner-take-all of E_f alone, without
-// the regularisation of the joint energy, and is not met yet (docs/flow.md has
-// the numbers). The flow of the full energy is tested in joint_view_test.cc.
+// the regularisation of the joint energy, which the method never uses alone
+// and which does not meet it (docs/flow.md, "Limitations"). The flow of the full energy is tested
+// in joint_view_test.cc.
 TEST_F(FlowCostTest, DISABLED_WinnerTakeAllFollowsGroundTruth) {
   FlowCostInput in = input_;
   in.sparse = gt_sparse_;
@@ -215,8 +216,9 @@ TEST_F(FlowCostTest, SparseConstraintHelpsOnLargeMotion) {
 // e_F^V alone (GT depth at t, no temporal or sparse term) already carries the
 // motion: the other views at t+1 see where the point went.
 // DISABLED: the target below is for the winner-take-all of E_f alone, without
-// the regularisation of the joint energy, and is not met yet (docs/flow.md has
-// the numbers). The flow of the full energy is tested in joint_view_test.cc.
+// the regularisation of the joint energy, which the method never uses alone
+// and which does not meet it (docs/flow.md, "Limitations"). The flow of the full energy is tested
+// in joint_view_test.cc.
 TEST_F(FlowCostTest, DISABLED_CrossViewTermAloneBeatsZeroFlow) {
   FlowCostInput in = input_;
   in.sparse = gt_sparse_;
@@ -230,8 +232,9 @@ TEST_F(FlowCostTest, DISABLED_CrossViewTermAloneBeatsZeroFlow) {
 // End to end with the sparse correspondences of features/temporal_tracks.h
 // (SIFT tracks + projected GT joints) instead of GT samples.
 // DISABLED: the target below is for the winner-take-all of E_f alone, without
-// the regularisation of the joint energy, and is not met yet (docs/flow.md has
-// the numbers). The flow of the full energy is tested in joint_view_test.cc.
+// the regularisation of the joint energy, which the method never uses alone
+// and which does not meet it (docs/flow.md, "Limitations"). The flow of the full energy is tested
+// in joint_view_test.cc.
 TEST_F(FlowCostTest, DISABLED_WithTemporalTracks) {
   std::vector<std::vector<Pose3d>> poses;
   for (int f = kFrame; f <= kFrame + 1; ++f)

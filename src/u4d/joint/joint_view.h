@@ -24,12 +24,12 @@
 //         boundaries (MotionRegBoundary): by default charged for every pair whatever the labels.
 //         The paper gates it by [l_p = l_q]; read literally, a label cut then removes the
 //         motion-smoothness cost of a pair, so wherever the estimated motion varies inside a
-//         person a cut is the cheaper way out and the labels fragment (measured: IoU 0.86
-//         vs 0.95 without E_f, E_r). Motion smoothness must not reward cuts. Charged
+//         person a cut is the cheaper way out and the labels fragment. Motion
+//         smoothness must not reward cuts. Charged
 //         regardless of the labels, E_r does not depend on l and label boundaries are left
 //         to E_c, E_a, E_sem, E_p and E_s; the other form that never rewards a cut (a
 //         boundary pays the truncated maximum, kDiscontinuity) pulls boundaries to jumps of
-//         the estimated motion and measured worse (docs/joint.md, "E_r at label boundaries").
+//         the estimated motion (docs/joint.md, "Choices where the paper is not explicit").
 //   E_p   pose_prior.h, (λ_2d e_2d + λ_3d e_3d) / (λ_2d + λ_3d)
 //
 // The code: joint_energy.h holds the energy (every term's weights and data,
@@ -87,8 +87,8 @@ struct FlowFusionOptions {
   bool refined = true;    // proposal: the discrete solution refined by parabola fits of E_f
   bool deepflow = false;  // proposal: OpenCV DeepFlow of the reference view t -> t+1
   // Proposal: OpenCV DIS (medium preset) down to the finest pyramid scale
-  // (setFinestScale(0)) with 10 variational refinement iterations. It replaced
-  // DeepFlow as the default: lower EPE in less time (docs/joint.md, "Speed").
+  // (setFinestScale(0)) with 10 variational refinement iterations: a lower
+  // EPE than DeepFlow as a proposal, in a fraction of its time.
   bool dis_fine = true;
   bool dis = true;  // proposal: OpenCV DIS (medium preset)
   // With exactly two of the three above, their mean is a proposal too.
@@ -106,15 +106,12 @@ struct JointViewOptions {
   FlowCostOptions flow;              // E_f
   PosePriorOptions pose;             // E_p
   int rounds = 2;                    // alternations of the l, d, m blocks
-  // The motion block runs in the first motion_rounds rounds only (>= 1); the
-  // flow fusion refines the motion after the last round. A motion block in
-  // the second round lowered the energy by < 0.01 % and changed no accuracy
-  // figure on either joint_bench preset, for 14 % of a view's time
-  // (docs/joint.md, "Speed").
+  // The motion block runs in the first motion_rounds rounds only (>= 1): the
+  // flow fusion refines the motion after the last round, so a later motion
+  // block has almost nothing left to lower.
   int motion_rounds = 1;
-  // Expansion sweeps per block and round. A second sweep lowered the energy
-  // by < 0.1 % and left IoU, depth and EPE unchanged on both joint_bench
-  // presets while costing a third of the blocks' time (docs/joint.md, "Speed").
+  // Expansion sweeps per block and round. The rounds already alternate the
+  // blocks, so a second sweep within a block has little left to lower.
   int sweeps_per_block = 1;
   double depth_truncation = 4;  // τ_d, depth label steps
   // Coarse-to-fine depth block: > 1 runs the expansion first over every
@@ -125,9 +122,7 @@ struct JointViewOptions {
   // From the second round on, the depth block lets a pixel with a depth move
   // by at most this many labels (or to U; a pixel at U may take any depth):
   // the first round has placed every pixel, the later ones refine. 0 = no
-  // limit. With 4, the second round's depth block took a quarter of its time
-  // on both joint_bench presets (a view 13-19 % less), for an energy 0.2 %
-  // higher and the same IoU, depth within 1 % and EPE (docs/joint.md, "Speed").
+  // limit.
   int depth_refine_band = 4;
   // A pixel may take only the depths of the objects whose region (grown by
   // roi_margin_px) holds it, each object's [depth_near, depth_far], or U; a
@@ -137,13 +132,9 @@ struct JointViewOptions {
   // > 0: in the motion block a pixel may take only the motions among its
   // motion_candidates_per_pixel lowest unaries (at its labels after the depth
   // block; ties included) or keep its own; 0 = every motion. The flow fusion
-  // after the blocks is not limited. With 12 of the ~90 motions, the motion
-  // block took 0.4x its time on both joint_bench presets; after the fusion
-  // the energy was 0.1-0.3 % higher and the EPE on people 0.251 -> 0.258 px
-  // (handshake) and 0.095 -> 0.096 px (meetup), IoU and depth unchanged.
-  // On fast motion it costs temporal coherence: S_e 0.151 -> 0.167 on the
-  // walking scenario of scripts/results.sh (0 is the setting there;
-  // docs/joint.md, "Session 12").
+  // after the blocks is not limited and recovers most of what the limit
+  // costs. On fast motion the limit costs some temporal coherence (S_e); 0 is
+  // the setting there (docs/joint.md, "The solver").
   int motion_candidates_per_pixel = 12;
   double motion_truncation_px = 4;  // τ_m, pixels (working resolution)
   // E_r's distance: min(|Δm|², τ_m²) / τ_m² (the paper's squared difference; true) or
@@ -161,9 +152,9 @@ struct JointViewOptions {
   // pixels, a dropped forearm) are then outvoted instead of copied (the same volume
   // feeds E_c's semantic contrast and E_r's e_r^L); but where the
   // flow is wrong (a swinging foot) the carried masks outvote the right one.
-  // Off by default: on the quick bench (with shape_own_label_only on) it recovered a
-  // dropped forearm and lost a foot, IoU 0.970 -> 0.968 (docs/joint.md). false: the
-  // initial mask of t only.
+  // Off by default: where the flow is wrong (a swinging foot) the carried masks
+  // outvote the right one, and an error the detector makes in every frame stays. false: the initial
+  // mask of t only.
   bool semantic_temporal = false;
   FlowFusionOptions fusion;  // continuous flow proposals fused after the blocks
   int roi_margin_px = 8;     // dilation of the objects' regions (working pixels)
@@ -225,7 +216,8 @@ struct JointViewResult {
   // weights", "depth volume", "flow volume", "initial labelling"), the blocks
   // summed over the rounds ("labels", "depth", "motion") and the fusion stage
   // ("fusion proposals": DeepFlow, DIS; "fusion moves"). For profiling
-  // (bench/joint_phases_bench, docs/joint.md "Speed").
+  // (bench/joint_phases_bench; docs/results.md, "Hot kernels and the phases of
+  // one joint view solve").
   struct Phase {
     std::string name;
     double seconds = 0;      // wall clock

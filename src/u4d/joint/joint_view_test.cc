@@ -138,10 +138,9 @@ TEST_F(JointViewSynthTest, EnergyDecreasesAndImprovesLabelsDepthAndFlow) {
 // JointViewOptions::motion_candidates_per_pixel (the motion block's moves
 // limited to each pixel's lowest unaries) against every motion: the flow on
 // the people stays as accurate against the GT, and the final energy (after
-// the unlimited flow fusion) within 1 % (joint_bench: +0.1-0.3 %). A guard
-// of the accuracy only: the flow fusion recovers so much that a limit of 1
-// passes too (0.242 against 0.236 px); the time saved is measured by
-// joint_bench --motion-candidates (docs/joint.md, "Session 12").
+// the unlimited flow fusion) within 1 %. A guard of the accuracy only: the
+// flow fusion recovers so much that a limit of 1 passes too; the time saved
+// is measured by joint_bench --motion-candidates.
 TEST_F(JointViewSynthTest, MotionCandidatesPerPixelKeepTheFlowAccuracy) {
   const Capture capture = ReadCapture(*dir_);
   std::vector<ViewTruth> truth;
@@ -210,9 +209,9 @@ TEST_F(JointViewSynthTest, OccluderMarginRemovesSwappedPoseClaims) {
   // the wrong person rarely, here on < 2 % of their claims on people (a person
   // is ~4x wider than the 1-2 px the capsule edges may be off at this size).
   EXPECT_LT(swapped_plain, 0.02 * (swapped_plain + right_plain));
-  // The margin removes swapped claims (its purpose); measured here it also
-  // removes more right claims (330) than swapped ones (58), which is why it is
-  // off by default (docs/joint.md).
+  // The margin removes swapped claims (its purpose); it also removes more
+  // right claims than swapped ones, which is why it is off by default
+  // (pose_prior.h).
   EXPECT_LT(swapped, swapped_plain);
 }
 

@@ -63,8 +63,8 @@ CovarianceBasis Decompose(const Eigen::Matrix3d& cov) {
 // EM for a full-covariance GMM over 3-vectors: the algorithm and arithmetic of
 // cv::ml::EM::trainEM (OpenCV 4.x, START_AUTO_STEP, COV_MAT_GENERIC) written
 // out, because cv::ml::EM evaluates every sample and component with small
-// cv::Mat operations and took ~1 s per GMM (a third of a joint view solve;
-// docs/joint.md, "Speed"). Initialisation: cv::kmeans (k-means++, 10
+// cv::Mat operations, which made the GMM fits a large share of a joint view
+// solve (kernels_bench BM_GmmFit times both). Initialisation: cv::kmeans (k-means++, 10
 // attempts, 10 iterations; draws from cv::theRNG()), covariances of the
 // clusters; then E and M steps until the log-likelihood gains less than
 // `eps` relative or `max_iters` E steps. The fit equals cv::ml::EM's up to

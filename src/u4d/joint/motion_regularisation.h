@@ -25,7 +25,8 @@
 namespace u4d {
 
 // How E_r treats a neighbour pair with different instance labels (see the
-// joint_view.h header comment and docs/joint.md, "E_r at label boundaries").
+// joint_view.h header comment and docs/joint.md, "Choices where the paper is
+// not explicit").
 enum class MotionRegBoundary {
   kFree,           // the paper read literally: [l_p = l_q] w ρ(Δm); a label cut removes E_r
   kDiscontinuity,  // a label boundary is a motion discontinuity: it pays the truncated

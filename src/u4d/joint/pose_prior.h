@@ -68,11 +68,11 @@ struct PosePriorOptions {
   // other's, the pixels just beside the front person's limb capsules may show
   // that person, not the capsule behind that would claim them. The torso and
   // head radii already bound the body and are not raised. <= limb_radius_m: the
-  // capsules alone decide (plain z-buffer). Off by default: against the GT
-  // instances (joint_view_test, OccluderMargin...) 0.10 removes 58 of 209
-  // claims on the other person but also 330 of 18181 right claims; it lifted
-  // the 480x270 view where legs overlap (IoU 0.873 -> 0.899) at a cost in depth
-  // there (within 5 % 0.961 -> 0.943). docs/joint.md.
+  // capsules alone decide (plain z-buffer). Off by default: a raised radius
+  // removes wrong claims on the other person but also many right ones
+  // (joint_view_test, OccluderMarginRemovesSwappedPoseClaims), and costs depth
+  // accuracy where legs overlap; kept for comparison in joint_bench
+  // (--occluder-limb-radius).
   double occluder_limb_radius_m = 0;
   // e_3d (shape and motion) at a pixel covered by person k's capsule counts
   // only when the pixel is labelled k: the spheres S_i constrain the points of
@@ -82,10 +82,11 @@ struct PosePriorOptions {
   // be labelled k, which balances e_2d's pull towards k; and a pixel labelled
   // another person or background is not pulled onto k's capsule in depth.
   // false: e_3d applies whatever the label (the depth of such pixels is pulled
-  // onto the capsule that covers them in the image). Off by default: on 16
-  // view-frames at 320x180 it lowered the mean IoU 0.965 -> 0.962 (worse in 11
-  // of 16), depth and flow unchanged (docs/joint.md, "E_p and E_sem against P_P
-  // and P_S").
+  // onto the capsule that covers them in the image). Off by default: the
+  // initial depth is chosen with the initial label, so where the label is
+  // wrong the depth agrees with it and the gate does not help, while
+  // elsewhere it loses pixels the ungated shape term keeps on the person;
+  // kept for comparison in joint_bench (--pose-3d-own-label).
   bool shape_own_label_only = false;
   double core_fraction = 0.5;    // w(p) = exp(−(r / core_fraction)² / 2), r in capsule radii:
                                  // the pose is trusted most near the bone axis

@@ -115,11 +115,11 @@ struct KeyframeSelection {
 };
 
 // How key-frames are chosen among the frames (docs/keyframes.md, "Key-frame
-// selection", has the measurements behind the default).
+// selection", says why the default).
 enum class KeyframeCover {
   // Greedy set cover by count: the frame similar to the most uncovered frames
   // first. Kept for comparison: it picks "hub" frames similar to many frames
-  // just above the threshold, whose members are not alike (measured).
+  // just above the threshold, whose members are not alike.
   kCount,
   // Greedy facility location: the frame whose choice raises the members'
   // similarity to their key-frame the most, sum_t max(0, KS_kt - best_t),

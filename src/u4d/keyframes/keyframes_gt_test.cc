@@ -133,8 +133,8 @@ TEST_F(KeyframeGtTest, SimilarPairsAreCloserInGtPose) {
 //  2. members are closer to their key-frame than with the same number of
 //     key-frames placed by time alone (equal temporal segments, their middle
 //     frames): the selection must gain from the image and pose evidence,
-//     not only from temporal proximity (the former count cover failed this:
-//     0.051 m vs 0.046 m, docs/keyframes.md);
+//     not only from temporal proximity (the count cover fails this,
+//     docs/keyframes.md);
 //  3. some frames are sent back to a key-frame more than the track window
 //     (10 frames) away, i.e. to an earlier occurrence of their pose, and
 //     these recurrences are closer in GT pose than random pairs (no margin:

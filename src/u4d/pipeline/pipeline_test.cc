@@ -64,7 +64,7 @@ TEST(PipelineTest, RunsEndToEndAndBeatsTheInitialMasks) {
   // mostly within 5% (the reconstruction is multi-view), and the fused
   // meshes must lie on the true surfaces within a limb's radius (6 cm, the
   // capsule model's), the least a per-person mesh must achieve to show the
-  // person's shape; docs/pipeline.md reports the value measured.
+  // person's shape (the run prints the values).
   const eval::EvalReport initial = eval::EvaluateCapture({capture, {}, true});
   const eval::EvalReport ours = eval::EvaluateCapture({capture, scene, false});
   ASSERT_TRUE(initial.instances && ours.instances && ours.depth_people && ours.meshes);
@@ -101,8 +101,7 @@ TEST(PipelineTest, RunsEndToEndAndBeatsTheInitialMasks) {
   // segment is measured on most of its vertices, and each tracking step may
   // add at most a pixel's footprint (~16 mm at 320x180 and 4 m; the flow is
   // asked for sub-pixel accuracy). The people barely move in these frames,
-  // so a static mesh would drift less (printed by the run); docs/pipeline.md
-  // reports both.
+  // so a static mesh would drift less (the run prints both).
   const nlohmann::json drift = ReadJsonFile(scene / layout::SceneEval())["vertex_drift"];
   ASSERT_GE(drift["segments_measured"].get<int>(), 1);
   for (const auto& seg : drift["segments"])

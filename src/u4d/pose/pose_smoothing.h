@@ -4,9 +4,8 @@
 // frame (pose_tracking.h's causal alpha-beta filter keeps most of that
 // noise on a still joint). The joint energy uses the poses' motion from t to
 // t+1 (E_p's e_2d^M and e_3d^M, joint/pose_prior.h), and on a nearly still
-// person that jitter is far larger than the true motion: measured on the
-// demo capture, frame-to-frame joint motion errors of 8-20 mm against a true
-// motion of 0.1-0.4 mm, i.e. 1-2 px of motion the flow is pulled towards.
+// person that jitter is far larger than the true motion, and the flow is
+// pulled towards pixels of motion that is not there.
 // Since `u4d run` sees the whole sequence, it can smooth non-causally.
 //
 // Method: a local polynomial (Savitzky-Golay-style least squares) per person
