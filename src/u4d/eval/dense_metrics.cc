@@ -102,14 +102,17 @@ void FlowMetrics::Add(const FlowMetrics& o) {
   sum_epe += o.sum_epe;
   within_1px += o.within_1px;
   within_3px += o.within_3px;
+  beyond_10px += o.beyond_10px;
 }
 double FlowMetrics::Epe() const { return Ratio(sum_epe, evaluated); }
 double FlowMetrics::Within1Px() const { return Ratio(within_1px, evaluated); }
 double FlowMetrics::Within3Px() const { return Ratio(within_3px, evaluated); }
+double FlowMetrics::Beyond10Px() const { return Ratio(beyond_10px, evaluated); }
 double FlowMetrics::Completeness() const { return Ratio(evaluated, gt_valid); }
 nlohmann::json FlowMetrics::ToJson() const {
   return {{"epe_px", Num(Epe())},           {"within_1px", Num(Within1Px())},
-          {"within_3px", Num(Within3Px())}, {"completeness", Num(Completeness())},
+          {"within_3px", Num(Within3Px())}, {"beyond_10px", Num(Beyond10Px())},
+          {"completeness", Num(Completeness())},
           {"gt_valid_pixels", gt_valid},    {"evaluated_pixels", evaluated}};
 }
 
@@ -146,6 +149,7 @@ FlowMetrics EvaluateFlow(const cv::Mat& pred, const cv::Mat& gt, const cv::Mat& 
       m.sum_epe += epe;
       if (epe < 1.0) ++m.within_1px;
       if (epe < 3.0) ++m.within_3px;
+      if (epe > 10.0) ++m.beyond_10px;
     }
   }
   return m;

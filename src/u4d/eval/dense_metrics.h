@@ -54,11 +54,13 @@ struct FlowMetrics {
   int64_t evaluated = 0;
   double sum_epe = 0;
   int64_t within_1px = 0, within_3px = 0;
+  int64_t beyond_10px = 0;  // gross errors: endpoint error above 10 px
 
   void Add(const FlowMetrics& o);
   double Epe() const;  // NaN when nothing was evaluated (likewise below)
   double Within1Px() const;
   double Within3Px() const;
+  double Beyond10Px() const;  // share of the evaluated pixels off by more than 10 px
   double Completeness() const;
   nlohmann::json ToJson() const;
 };

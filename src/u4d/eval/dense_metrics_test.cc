@@ -63,7 +63,11 @@ TEST(Flow, HandEpe) {
   EXPECT_NEAR(m.Epe(), 2.75, 1e-6);
   EXPECT_DOUBLE_EQ(m.Within1Px(), 0.5);
   EXPECT_DOUBLE_EQ(m.Within3Px(), 0.5);
+  EXPECT_DOUBLE_EQ(m.Beyond10Px(), 0.0);  // 5 px is not a gross error
   EXPECT_DOUBLE_EQ(m.Completeness(), 1.0);
+  cv::Mat far = pred.clone();
+  far.at<cv::Vec2f>(0, 0) = {6, 8.5f};  // EPE 10.41
+  EXPECT_DOUBLE_EQ(EvaluateFlow(far, gt, {}, {}, "test").Beyond10Px(), 0.5);
   const cv::Mat valid = (cv::Mat_<uint8_t>(1, 2) << 0, 255);
   EXPECT_NEAR(EvaluateFlow(pred, gt, valid, {}, "test").Epe(), 0.5, 1e-6);
   const cv::Mat mask = (cv::Mat_<uint8_t>(1, 2) << 255, 0);
