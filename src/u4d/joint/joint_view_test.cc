@@ -170,6 +170,60 @@ TEST_F(JointViewSynthTest, MotionCandidatesPerPixelKeepTheFlowAccuracy) {
   EXPECT_LE(flow_limited.Epe(), flow_every.Epe() + 0.02);
 }
 
+// Still is still (issue 23): frame t shown twice — the same images (with new
+// sensor noise, σ = 2 grey levels), cameras and poses at t and t+1, and sparse
+// correspondences that do not move — must
+// give no motion on the people: mean |flow| at most 0.05 px over their GT
+// pixels, in every view solved.
+TEST_F(JointViewSynthTest, TheSameFrameTwiceHasNoMotion) {
+  const Capture capture = ReadCapture(*dir_);
+  FrameReader reader(capture);
+  JointFrameData data = GtPoseFrameData(capture, &reader, 1);
+  // A camera's sensor noise differs between two exposures of a still scene.
+  cv::RNG rng(7);
+  data.images_t1.clear();
+  for (const cv::Mat& image : data.images_t) {
+    cv::Mat noise(image.size(), CV_16SC3), noisy;
+    rng.fill(noise, cv::RNG::NORMAL, 0, 2.0);
+    image.convertTo(noisy, CV_16SC3);
+    cv::Mat(noisy + noise).convertTo(noisy, CV_8UC3);
+    data.images_t1.push_back(noisy);
+  }
+  data.cameras_t1 = data.cameras_t;
+  data.masks_t1 = data.masks_t;
+  data.poses_t1 = data.poses_t;
+  for (int v = 0; v < capture.NumViews(); ++v) {
+    data.sparse[v] = SparseMotionsFromTruth(ReadViewTruth(capture, v, 1), 150, 11 + v);
+    for (SparseMotion& s : data.sparse[v]) s.displacement.setZero();
+  }
+  double scale = 0;
+  const std::vector<JointViewInput> inputs = MakeJointViewInputs(data, {}, &scale);
+  JointViewOptions options;
+  options.weights = PaperWeights(capture.scene, capture.NumViews());
+  int views = 0;
+  for (int v = 0; v < 4; ++v) {
+    if (inputs[v].objects.empty()) continue;
+    const JointViewResult r = SolveJointView(inputs[v], options);
+    const cv::Mat people = ReadViewTruth(capture, v, 1).instances.ids > 0;
+    double sum = 0, largest = 0;
+    int count = 0;
+    for (int y = 0; y < r.flow.rows; ++y)
+      for (int x = 0; x < r.flow.cols; ++x) {
+        if (!people.at<uint8_t>(y, x)) continue;
+        const double len = cv::norm(r.flow.at<cv::Vec2f>(y, x));
+        sum += len;
+        largest = std::max(largest, len);
+        ++count;
+      }
+    ASSERT_GT(count, 0);
+    std::printf("view %d: mean |flow| on people %.4f px, largest %.3f px\n", v, sum / count,
+                largest);
+    EXPECT_LE(sum / count, 0.05) << "view " << v;
+    ++views;
+  }
+  EXPECT_GE(views, 3);
+}
+
 // The capsules' z-buffer against the GT instances, and
 // PosePriorOptions::occluder_limb_radius_m: where one person is seen in front
 // of the other, a capsule behind should not claim the front person's pixels.
