@@ -191,7 +191,7 @@ cv::Mat ReadPredFlow(Context& c, const std::string& view, int frame, bool count_
 }
 
 void EvaluateFlowMaps(Context& c) {
-  FlowMetrics all, people;
+  FlowMetrics all, people, background;
   const bool with_people = c.HasGt("instances");
   for (const CaptureView& v : c.capture.views)
     for (int f = 0; f < c.capture.num_frames; ++f) {
@@ -207,10 +207,14 @@ void EvaluateFlowMaps(Context& c) {
         const cv::Mat mask = ClassMask(ReadGtInstances(c.root, v.name, f), c.options.people_class);
         CheckImageSize(mask, gt.cols, gt.rows, ctx);
         people.Add(EvaluateFlow(pred, gt, valid, mask, ctx));
+        background.Add(EvaluateFlow(pred, gt, valid, mask == 0, ctx));
       }
     }
   c.report.flow = all;
-  if (with_people) c.report.flow_people = people;
+  if (with_people) {
+    c.report.flow_people = people;
+    c.report.flow_background = background;
+  }
 }
 
 // S_e of the prediction's flow (a missing flow file drops every pixel).
@@ -418,6 +422,7 @@ nlohmann::json EvalReport::ToJson() const {
   if (depth_people) j["depth_people"] = depth_people->ToJson();
   if (flow) j["flow"] = flow->ToJson();
   if (flow_people) j["flow_people"] = flow_people->ToJson();
+  if (flow_background) j["flow_background"] = flow_background->ToJson();
   if (silhouette_overlap_error)
     j["silhouette_overlap_error"] = {{"value", Num(silhouette_overlap_error->Mean())},
                                      {"frame_views", silhouette_overlap_error->count}};
@@ -500,6 +505,7 @@ std::string EvalReport::FormatTable() const {
   };
   if (flow) flow_rows("flow (all pixels)", *flow);
   if (flow_people) flow_rows("flow (people)", *flow_people);
+  if (flow_background) flow_rows("flow (background)", *flow_background);
   if (silhouette_overlap_error) {
     s += "temporal coherence\n";
     row("silhouette overlap error S_e", silhouette_overlap_error->Mean(), "(1 - IoU)");

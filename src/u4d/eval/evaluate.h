@@ -69,7 +69,9 @@ struct EvalReport {
   // without a mesh.
   std::optional<IdentityAccumulator> identity;
   std::optional<DepthMetrics> depth, depth_people;
-  std::optional<FlowMetrics> flow, flow_people;
+  // flow_background: every pixel that is not of people_class (the static
+  // scene; on a moving rig its flow is the camera's motion).
+  std::optional<FlowMetrics> flow, flow_people, flow_background;
   std::optional<RatioMean> silhouette_overlap_error;  // S_e
   std::optional<PoseMetrics> poses;
   std::optional<MeshEval> meshes;

@@ -93,6 +93,10 @@ TEST(EvaluateCapture, GroundTruthAgainstItselfIsPerfect) {
   EXPECT_EQ(r.depth->gt_valid, 2 * kFrames * 400);  // 20 x 20 pixels per image
   EXPECT_EQ(r.flow->Epe(), 0.0);
   EXPECT_EQ(r.flow->gt_valid, 2 * (kFrames - 1) * 40 * 32);
+  // People and background split the image's pixels.
+  ASSERT_TRUE(r.flow_people && r.flow_background);
+  EXPECT_EQ(r.flow_people->gt_valid + r.flow_background->gt_valid, r.flow->gt_valid);
+  EXPECT_EQ(r.flow_people->gt_valid, 2 * (kFrames - 1) * 400);
   EXPECT_EQ(r.silhouette_overlap_error->Mean(), 0.0);
   EXPECT_EQ(r.silhouette_overlap_error->count, 2);  // frame 1 in each view (key-frames 0, 2)
   EXPECT_EQ(r.poses->Mpjpe(), 0.0);
