@@ -2,6 +2,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "u4d/joint/background_flow.h"
 #include "u4d/joint/block_schedule.h"
 #include "u4d/joint/energy_setup.h"
 #include "u4d/joint/flow_fusion.h"
@@ -20,7 +21,8 @@ cv::Mat Grey(const cv::Mat& bgr) {
 }
 
 // The outputs: labels, sub-sample depth on object pixels, sub-pixel flow (0
-// outside the region of interest and on the last frame).
+// outside the region of interest, where the background flow follows, and on
+// the last frame).
 void WriteOutputs(const JointEnergy& energy, const JointLabelling& labelling, bool has_next,
                   JointViewResult* result) {
   const int n = energy.num_pixels;
@@ -67,6 +69,7 @@ void JointViewOptions::Check() const {
   U4D_CHECK(appearance_refits >= 0, "JointViewOptions.appearance_refits must be >= 0, got {}",
             appearance_refits);
   fusion.Check();
+  background_flow.Check();
 }
 
 JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions& options) {
@@ -108,6 +111,13 @@ JointViewResult SolveJointView(const JointViewInput& in, const JointViewOptions&
              options, &labelling, &clock, &result);
 
   WriteOutputs(energy, labelling, has_next, &result);
+  if (has_next && options.background_flow.enabled) {
+    const int v = in.ref_view;
+    BackgroundFlow(in.cameras_t[v], in.cameras_t1[v], Grey(in.images_t[v]), Grey(in.images_t1[v]),
+                   options.background_flow)
+        .copyTo(result.flow, roi == 0);
+    clock.End("background flow");
+  }
   result.seconds = timer.Seconds();
   return result;
 }

@@ -68,6 +68,7 @@
 #include <opencv2/core.hpp>
 
 #include "u4d/geometry/camera.h"
+#include "u4d/joint/background_flow.h"
 #include "u4d/joint/depth_cost.h"
 #include "u4d/joint/flow_cost.h"
 #include "u4d/joint/label_costs.h"
@@ -157,6 +158,9 @@ struct JointViewOptions {
   // mask of t only.
   bool semantic_temporal = false;
   FlowFusionOptions fusion;  // continuous flow proposals fused after the blocks
+  // The flow outside the objects' regions: the rigid flow of the camera's
+  // motion (background_flow.h; 0 on a still camera).
+  BackgroundFlowOptions background_flow;
   int roi_margin_px = 8;     // dilation of the objects' regions (working pixels)
   // Before the energy is fixed: minimise the label unaries + E_c alone and
   // re-learn frame t's colour GMMs from that labelling, this many times
