@@ -110,10 +110,13 @@ double FlowMetrics::Within3Px() const { return Ratio(within_3px, evaluated); }
 double FlowMetrics::Beyond10Px() const { return Ratio(beyond_10px, evaluated); }
 double FlowMetrics::Completeness() const { return Ratio(evaluated, gt_valid); }
 nlohmann::json FlowMetrics::ToJson() const {
-  return {{"epe_px", Num(Epe())},           {"within_1px", Num(Within1Px())},
-          {"within_3px", Num(Within3Px())}, {"beyond_10px", Num(Beyond10Px())},
+  return {{"epe_px", Num(Epe())},
+          {"within_1px", Num(Within1Px())},
+          {"within_3px", Num(Within3Px())},
+          {"beyond_10px", Num(Beyond10Px())},
           {"completeness", Num(Completeness())},
-          {"gt_valid_pixels", gt_valid},    {"evaluated_pixels", evaluated}};
+          {"gt_valid_pixels", gt_valid},
+          {"evaluated_pixels", evaluated}};
 }
 
 FlowMetrics EvaluateFlow(const cv::Mat& pred, const cv::Mat& gt, const cv::Mat& gt_valid,

@@ -57,10 +57,10 @@ cv::Mat RigidFlowFromMatches(const Camera& cam_t, const Camera& cam_t1, const cv
   U4D_CHECK(cam_t.width == cam_t1.width && cam_t.height == cam_t1.height,
             "RigidFlowFromMatches: the cameras at t and t+1 differ in size ({}x{} and {}x{})",
             cam_t.width, cam_t.height, cam_t1.width, cam_t1.height);
-  U4D_CHECK(matches.type() == CV_32FC2 && matches.cols == cam_t.width &&
-                matches.rows == cam_t.height,
-            "RigidFlowFromMatches: the matches must be CV_32FC2 of {}x{}, got {}x{} type {}",
-            cam_t.width, cam_t.height, matches.cols, matches.rows, matches.type());
+  U4D_CHECK(
+      matches.type() == CV_32FC2 && matches.cols == cam_t.width && matches.rows == cam_t.height,
+      "RigidFlowFromMatches: the matches must be CV_32FC2 of {}x{}, got {}x{} type {}", cam_t.width,
+      cam_t.height, matches.cols, matches.rows, matches.type());
   const CameraMotion motion = MotionOf(cam_t, cam_t1);
   const Rigid3d world_from_t = cam_t.cam_from_world.Inverse();
   const double rho_max = 1 / options.min_depth_m;

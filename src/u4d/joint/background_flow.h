@@ -25,9 +25,9 @@
 namespace u4d {
 
 struct BackgroundFlowOptions {
-  bool enabled = true;        // rigid flow outside the objects' regions (false: flow 0 there)
-  double min_depth_m = 0.2;   // nearest depth a background point may take (> 0)
-  void Check() const;         // throws u4d::Error naming the bad field
+  bool enabled = true;       // rigid flow outside the objects' regions (false: flow 0 there)
+  double min_depth_m = 0.2;  // nearest depth a background point may take (> 0)
+  void Check() const;        // throws u4d::Error naming the bad field
 };
 
 // True when the two cameras differ (intrinsics, distortion, size or pose).

@@ -2,8 +2,8 @@
 
 #include <random>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "u4d/util/check.h"
 
