@@ -322,6 +322,12 @@ FlowCostInput SetUpFlowTerms(const JointViewInput& in, const JointViewOptions& o
     flow_in.depth_t = *plane_sweep_depth;
     flow_in.sparse = sparse;
     flow_in.roi = roi;
+    if (options.flow.sparse && options.flow.dense_support) {
+      cv::Mat grey_t, grey_t1;
+      cv::cvtColor(in.images_t[in.ref_view], grey_t, cv::COLOR_BGR2GRAY);
+      cv::cvtColor(in.images_t1[in.ref_view], grey_t1, cv::COLOR_BGR2GRAY);
+      flow_in.dense_matches = FineDisFlow(grey_t, grey_t1);
+    }
     energy->motion =
         ComputeFlowCostVolume(flow_in, BuildMotionLabels(sparse, options.motion_labels),
                               options.motion_labels, options.flow);

@@ -204,7 +204,12 @@ MotionCostVolume ComputeFlowCostVolume(const FlowCostInput& input,
   const int words = (L + 63) / 64;
   std::vector<uint64_t> allowed;  // N * words, only when the constraint applies
   std::vector<uint8_t> constrained(N, 0);
-  if (options.sparse && !input.sparse.empty()) {
+  const bool use_dense = options.sparse && options.dense_support && !input.dense_matches.empty();
+  if (use_dense)
+    U4D_CHECK(input.dense_matches.type() == CV_32FC2 && input.dense_matches.cols == W &&
+                  input.dense_matches.rows == H,
+              "ComputeFlowCostVolume: dense matches must be CV_32FC2 of {}x{}", W, H);
+  if (options.sparse && (!input.sparse.empty() || use_dense)) {
     const int n_sparse = static_cast<int>(input.sparse.size());
     std::vector<uint64_t> sparse_bits(static_cast<size_t>(n_sparse) * words, 0);
     const float win = static_cast<float>(label_options.window);
@@ -247,6 +252,16 @@ MotionCostVolume ComputeFlowCostVolume(const FlowCostInput& input,
               const uint64_t* sb = &sparse_bits[static_cast<size_t>(s) * words];
               for (int k = 0; k < words; ++k) bits[k] |= sb[k];
             }
+        if (use_dense) {
+          const cv::Vec2f d = input.dense_matches.at<cv::Vec2f>(y, x);
+          if (std::isfinite(d[0]) && std::isfinite(d[1])) {
+            near = true;
+            for (int l = 0; l < L; ++l)
+              if (std::max(std::abs(motions[l].x() - d[0]), std::abs(motions[l].y() - d[1])) <=
+                  win + 1e-4f)
+                bits[l / 64] |= uint64_t{1} << (l % 64);
+          }
+        }
         bool any = false;
         for (int k = 0; k < words; ++k) any = any || bits[k] != 0;
         constrained[p] = near && any;
@@ -500,6 +515,16 @@ void CheckVolume(const MotionCostVolume& v, const std::string& fn) {
 }
 
 }  // namespace
+
+bool ForbiddenMotion(const MotionCostVolume& volume, const FlowCostInput& input,
+                     const FlowCostOptions& options, int window, int p, int label,
+                     const Eigen::Vector2f& m) {
+  if (label >= 0 && volume.At(p, label) < kForbiddenMotion) return false;
+  if (!options.sparse) return label < 0;
+  if (!options.dense_support || input.dense_matches.empty()) return true;
+  const cv::Vec2f d = input.dense_matches.ptr<cv::Vec2f>()[p];
+  return !(std::max(std::abs(m.x() - d[0]), std::abs(m.y() - d[1])) <= window + 1e-4f);
+}
 
 cv::Mat WinnerTakeAllFlow(const MotionCostVolume& volume, const cv::Mat& roi) {
   CheckVolume(volume, "WinnerTakeAllFlow");

@@ -22,9 +22,10 @@
 //    unknown (0) or no view sees X.
 //  - e_F^S (sparse constraint): 0 when m is within `window` (Chebyshev) of the
 //    displacement of some sparse correspondence within support_radius of p,
-//    kForbiddenMotion otherwise; pixels with no sparse correspondence within
-//    support_radius allow every label, as do pixels where the constraint would
-//    forbid every label (a sparse displacement whose window was not kept in M).
+//    or (dense_support) of p's dense match, kForbiddenMotion otherwise; pixels
+//    with no correspondence allow every label, as do pixels where the
+//    constraint would forbid every label (a displacement whose window was not
+//    kept in M).
 // The robust version: the per-pixel colour costs of e_F^T and e_F^V are
 // averaged over a (2r+1)^2 patch centred at p (e_F^V over the pixels of the
 // patch with a defined cost) and then truncated at `truncation`. The paper
@@ -49,6 +50,12 @@ struct FlowCostOptions {
   bool cross_view = true;  // e_F^V: consistency with the other views at t+1 (needs depth_t)
   bool sparse = true;      // e_F^S: labels farther than `window` from every nearby sparse
                            // displacement are forbidden
+  // e_F^S also allows, at every pixel, the motions within `window` of the
+  // pixel's dense match (FlowCostInput::dense_matches). Tracks are few and
+  // a limb's motion varies by more than a window within support_radius, so
+  // the tracks alone forbid the true motion where the body bends or turns;
+  // and a pixel far from every track would otherwise allow every motion.
+  bool dense_support = true;
   // e_F^V uses only the views whose optical axis is within this angle of the
   // reference view's (degrees, in (0, 180]): a crude visibility test, since a
   // surface seen by the reference is mostly hidden from cameras facing it.
@@ -82,7 +89,11 @@ struct FlowCostInput {
   cv::Mat depth_t;                   // CV_32F z of the reference view at t (0 = unknown); empty
                                      // -> no e_F^V
   std::vector<SparseMotion> sparse;  // sparse correspondences of the reference view t -> t+1
-  cv::Mat roi;                       // CV_8U nonzero = compute; empty = all
+  // A dense correspondence per pixel (CV_32FC2 flow t -> t+1, e.g. OpenCV DIS);
+  // empty = none. e_F^S counts it as one more correspondence at every pixel
+  // (FlowCostOptions::dense_support).
+  cv::Mat dense_matches;
+  cv::Mat roi;  // CV_8U nonzero = compute; empty = all
 };
 
 // The cost volume of E_f over `motions` (usually BuildMotionLabels of
@@ -108,6 +119,14 @@ MotionCostVolume ComputeFlowCostVolume(const FlowCostInput& input,
 // the wrong type or size, or a non-finite flow in the roi.
 cv::Mat FlowFieldCosts(const FlowCostInput& input, const cv::Mat& flow,
                        const FlowCostOptions& options = {});
+
+// e_F^S of a continuous motion m at pixel p for the flow fusion: allowed
+// (false) when the nearest integer motion in M (`label`, -1 = none) is allowed
+// by `volume`, or when m is within `window` of p's dense match (with
+// dense_support and input.dense_matches given).
+bool ForbiddenMotion(const MotionCostVolume& volume, const FlowCostInput& input,
+                     const FlowCostOptions& options, int window, int p, int label,
+                     const Eigen::Vector2f& m);
 
 // Winner-take-all flow: per pixel the cheapest label, with parabolic sub-pixel
 // refinement per axis where the labels one pixel either side exist and are not

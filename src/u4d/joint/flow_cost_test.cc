@@ -213,6 +213,51 @@ TEST_F(FlowCostTest, SparseConstraintHelpsOnLargeMotion) {
   EXPECT_LT(e_with, 0.5 * zero);
 }
 
+// FlowCostOptions::dense_support: tracks whose displacements are all 6 px off
+// forbid the true motion; a dense match at each pixel (here the GT flow)
+// allows it again, in the volume and for the fusion's continuous motions
+// (ForbiddenMotion), without lifting the constraint elsewhere.
+TEST_F(FlowCostTest, DenseMatchesAllowTheirMotionWhereTheTracksForbidIt) {
+  FlowCostInput in = input_;
+  std::vector<SparseMotion> labels_from = gt_sparse_;
+  in.sparse = gt_sparse_;
+  for (SparseMotion& s : in.sparse) s.displacement += Eigen::Vector2d(6, 0);
+  labels_from.insert(labels_from.end(), in.sparse.begin(), in.sparse.end());
+  MotionLabelOptions lo;
+  lo.max_centres = 40;
+  const std::vector<Eigen::Vector2f> motions = BuildMotionLabels(labels_from, lo);
+  const MotionLabelGrid grid(motions);
+  FlowCostOptions off;
+  off.dense_support = false;
+  const MotionCostVolume tracks_only = ComputeFlowCostVolume(in, motions, lo, off);
+  in.dense_matches = gt_flow_;
+  const MotionCostVolume with_dense = ComputeFlowCostVolume(in, motions, lo, FlowCostOptions{});
+  int pixels = 0, forbidden_before = 0, forbidden_after = 0;
+  int continuous_before = 0, continuous_after = 0;
+  for (int y = 0; y < gt_flow_.rows; ++y)
+    for (int x = 0; x < gt_flow_.cols; ++x) {
+      if (!eval_mask_.at<uint8_t>(y, x)) continue;
+      const cv::Vec2f f = gt_flow_.at<cv::Vec2f>(y, x);
+      const Eigen::Vector2f m(f[0], f[1]);
+      const int k = grid.Nearest(m), p = y * gt_flow_.cols + x;
+      if (k < 0) continue;
+      ++pixels;
+      forbidden_before += tracks_only.At(p, k) >= kForbiddenMotion;
+      forbidden_after += with_dense.At(p, k) >= kForbiddenMotion;
+      continuous_before += ForbiddenMotion(tracks_only, in, off, lo.window, p, k, m);
+      continuous_after += ForbiddenMotion(with_dense, in, {}, lo.window, p, k, m);
+    }
+  std::printf("%d pixels: true motion forbidden %d -> %d\n", pixels, forbidden_before,
+              forbidden_after);
+  ASSERT_GT(pixels, 100);
+  EXPECT_GT(forbidden_before, pixels / 2);
+  EXPECT_EQ(forbidden_after, 0);
+  EXPECT_GT(continuous_before, pixels / 2);
+  EXPECT_EQ(continuous_after, 0);
+  // A motion far from the dense match and outside M stays forbidden.
+  EXPECT_TRUE(ForbiddenMotion(with_dense, in, {}, lo.window, 0, -1, Eigen::Vector2f(50, 50)));
+}
+
 // e_F^V alone (GT depth at t, no temporal or sparse term) already carries the
 // motion: the other views at t+1 see where the point went.
 // DISABLED: the target below is for the winner-take-all of E_f alone, without

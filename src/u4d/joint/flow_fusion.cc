@@ -71,11 +71,12 @@ void Fuse(const JointEnergy& energy, const PairCache& cache, const MotionLabelGr
       proposal_flow_cost[p] = labelling->flow_costs[p];
       continue;
     }
-    // e_F^S of a sub-pixel motion: that of its nearest integer offset in M.
+    // e_F^S of a sub-pixel motion: that of its nearest integer offset in M,
+    // or allowed near the pixel's dense match.
     const int k = index.Nearest(proposal_motion[p]);
-    proposal_flow_cost[p] =
-        costs.ptr<float>()[p] +
-        ((k < 0 || energy.motion.At(p, k) >= kForbiddenMotion) ? kForbiddenMotion : 0.f);
+    const bool forbidden = ForbiddenMotion(energy.motion, flow_input, options.flow,
+                                           options.motion_labels.window, p, k, proposal_motion[p]);
+    proposal_flow_cost[p] = costs.ptr<float>()[p] + (forbidden ? kForbiddenMotion : 0.f);
   }
   std::vector<int> choice(n, 0);
   const std::vector<int> proposal(n, 1);
@@ -124,6 +125,16 @@ void FlowFusionOptions::Check() const {
   U4D_CHECK(rounds >= 1, "FlowFusionOptions.rounds must be >= 1, got {}", rounds);
 }
 
+cv::Mat FineDisFlow(const cv::Mat& grey_t, const cv::Mat& grey_t1) {
+  cv::Mat f;
+  const cv::Ptr<cv::DISOpticalFlow> dis =
+      cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM);
+  dis->setFinestScale(0);
+  dis->setVariationalRefinementIterations(10);
+  dis->calc(grey_t, grey_t1, f);
+  return f;
+}
+
 std::vector<cv::Mat> FlowFusionProposals(const cv::Mat& grey_t, const cv::Mat& grey_t1,
                                          const FlowFusionOptions& options) {
   U4D_CHECK(grey_t.type() == CV_8UC1 && grey_t1.type() == CV_8UC1 &&
@@ -137,15 +148,7 @@ std::vector<cv::Mat> FlowFusionProposals(const cv::Mat& grey_t, const cv::Mat& g
     cv::optflow::createOptFlow_DeepFlow()->calc(grey_t, grey_t1, f);
     proposals.push_back(f);
   }
-  if (options.dis_fine) {
-    cv::Mat f;
-    const cv::Ptr<cv::DISOpticalFlow> dis =
-        cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM);
-    dis->setFinestScale(0);
-    dis->setVariationalRefinementIterations(10);
-    dis->calc(grey_t, grey_t1, f);
-    proposals.push_back(f);
-  }
+  if (options.dis_fine) proposals.push_back(FineDisFlow(grey_t, grey_t1));
   if (options.dis) {
     cv::Mat f;
     cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM)->calc(grey_t, grey_t1, f);

@@ -161,7 +161,7 @@ struct JointViewOptions {
   // The flow outside the objects' regions: the rigid flow of the camera's
   // motion (background_flow.h; 0 on a still camera).
   BackgroundFlowOptions background_flow;
-  int roi_margin_px = 8;     // dilation of the objects' regions (working pixels)
+  int roi_margin_px = 8;  // dilation of the objects' regions (working pixels)
   // Before the energy is fixed: minimise the label unaries + E_c alone and
   // re-learn frame t's colour GMMs from that labelling, this many times
   // (GrabCut's iteration; 0 = the GMMs of the initial masks, as the paper).
@@ -237,6 +237,11 @@ struct JointViewResult {
 // Defined in flow_fusion.cc (the stage itself: flow_fusion.h).
 std::vector<cv::Mat> FlowFusionProposals(const cv::Mat& grey_t, const cv::Mat& grey_t1,
                                          const FlowFusionOptions& options);
+
+// OpenCV DIS (medium preset) down to the finest pyramid scale with 10
+// variational refinement iterations, grey (CV_8U) t -> t+1: the fusion's
+// `dis_fine` proposal and E_f's dense matches (FlowCostOptions::dense_support).
+cv::Mat FineDisFlow(const cv::Mat& grey_t, const cv::Mat& grey_t1);
 
 // Throws u4d::Error on inconsistent input (sizes, counts, label ids).
 JointViewResult SolveJointView(const JointViewInput& input, const JointViewOptions& options);
