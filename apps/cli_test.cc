@@ -135,6 +135,52 @@ TEST(Cli, OutputFoldersAreCheckedBeforeAnyWork) {
   EXPECT_EQ(ReadTextFile(dir / "mine" / "notes.txt"), "keep me");
 }
 
+// --config, --set and the named flags reach any option, in that order of
+// precedence; params.json (written before the frames are read, which this
+// capture lacks) records what the run used.
+TEST(Cli, RunConfigSetAndFlagsOverrideAnyOption) {
+  const fs::path dir = test_util::FreshTestDir("cli", "config");
+  const fs::path cap = dir / "cap";
+  WriteCapture(OneViewCapture(), cap);
+  const fs::path config = dir / "config.json";
+  WriteJsonFileAtomic(config, {{"paper_weights", false},
+                               {"joint", {{"rounds", 3}, {"weights", {{"flow", 0.6}}}}},
+                               {"init", {{"threshold_sigmas", 5.5}}},
+                               {"frame_setup", {{"working_width", 200}}}});
+  const fs::path scene = dir / "scene";
+  RunU4d({"run", cap.string(), "-o", scene.string(), "--no-progress", "--config", config.string(),
+          "--set", "frame_setup.working_width=160", "--set", "init.box_fill=always", "--rounds",
+          "4"});
+  const nlohmann::json p = ReadJsonFile(scene / "params.json");
+  EXPECT_EQ(p["joint"]["rounds"], 4);
+  EXPECT_EQ(p["joint"]["weights"]["flow"], 0.6);
+  EXPECT_EQ(p["paper_weights"], false);
+  EXPECT_EQ(p["init"]["threshold_sigmas"], 5.5);
+  EXPECT_EQ(p["init"]["box_fill"], "always");
+  EXPECT_EQ(p["frame_setup"]["working_width"], 160);
+  EXPECT_EQ(p["progress"], false);
+
+  // The earlier format: top-level weights replace the paper's table.
+  WriteJsonFileAtomic(config, {{"weights", {{"flow", 0.7}}}});
+  RunU4d({"run", cap.string(), "-o", (dir / "legacy").string(), "--no-progress", "--config",
+          config.string()});
+  const nlohmann::json legacy = ReadJsonFile(dir / "legacy" / "params.json");
+  EXPECT_EQ(legacy["joint"]["weights"]["flow"], 0.7);
+  EXPECT_EQ(legacy["paper_weights"], false);
+
+  const std::string out = (dir / "bad").string();
+  WriteJsonFileAtomic(config, {{"joint", {{"rouds", 3}}}});
+  ExpectFails({"run", cap.string(), "-o", out, "--config", config.string()}, 1,
+              {"config.json", "unknown option 'joint.rouds'"});
+  ExpectFails({"run", cap.string(), "-o", out, "--set", "joint.rounds=two"}, 1,
+              {"--set", "'joint.rounds'", "'two'"});
+  ExpectFails({"run", cap.string(), "-o", out, "--set", "joint.weights.flow=0.6"}, 1,
+              {"joint.weights", "paper_weights"});
+  ExpectFails({"run", cap.string(), "-o", out, "--box-fill", "sometimes"}, kCliValidation,
+              {"--box-fill", "never, empty-views, always", "sometimes"});
+  EXPECT_FALSE(fs::exists(out));
+}
+
 // synth into a previous capture: refused without --force; with it, the old
 // capture is replaced, so no view of it is left beside the new ones.
 TEST(Cli, SynthForceReplacesAPreviousCapture) {

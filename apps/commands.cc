@@ -13,13 +13,14 @@ Command MakeSceneFromGtCommand();
 Command MakeViewCommand();
 Command MakeExportViewerCommand();
 Command MakeConsistencyCommand();
+Command MakeOptionsCommand();
 
 const std::vector<Command>& Commands() {
   static const std::vector<Command> commands = {
-      MakeInfoCommand(),        MakeEvalCommand(), MakeImportCommand(),
-      MakeSynthCommand(),       MakeRunCommand(),  MakeDemoCommand(),
-      MakeSceneFromGtCommand(), MakeViewCommand(), MakeExportViewerCommand(),
-      MakeConsistencyCommand(),
+      MakeInfoCommand(),        MakeEvalCommand(),    MakeImportCommand(),
+      MakeSynthCommand(),       MakeRunCommand(),     MakeDemoCommand(),
+      MakeSceneFromGtCommand(), MakeViewCommand(),    MakeExportViewerCommand(),
+      MakeConsistencyCommand(), MakeOptionsCommand(),
   };
   return commands;
 }

@@ -52,7 +52,8 @@ void JointViewOptions::Check() const {
   motion_labels.Check();
   flow.Check();
   pose.Check();
-  U4D_CHECK(rounds >= 1, "JointViewOptions.rounds must be >= 1, got {}", rounds);
+  U4D_CHECK(rounds >= 1 && rounds <= 100, "JointViewOptions.rounds must be in [1, 100], got {}",
+            rounds);
   U4D_CHECK(sweeps_per_block >= 1, "JointViewOptions.sweeps_per_block must be >= 1");
   U4D_CHECK(motion_rounds >= 1, "JointViewOptions.motion_rounds must be >= 1, got {}",
             motion_rounds);

@@ -1,49 +1,19 @@
 #include "u4d/joint/parameters.h"
 
-#include <algorithm>
 #include <cmath>
-#include <utility>
 
 #include <fmt/format.h>
 
+#include "u4d/joint/joint_options.h"
 #include "u4d/util/check.h"
 
 namespace u4d {
-namespace {
-
-// The fields of JointWeights by JSON key, in declaration order.
-std::vector<std::pair<std::string, double JointWeights::*>> WeightFields() {
-  return {{"depth", &JointWeights::depth},
-          {"appearance", &JointWeights::appearance},
-          {"semantic", &JointWeights::semantic},
-          {"flow", &JointWeights::flow},
-          {"smooth", &JointWeights::smooth},
-          {"smooth_spatial", &JointWeights::smooth_spatial},
-          {"smooth_temporal", &JointWeights::smooth_temporal},
-          {"contrast", &JointWeights::contrast},
-          {"contrast_colour", &JointWeights::contrast_colour},
-          {"contrast_label", &JointWeights::contrast_label},
-          {"motion_reg", &JointWeights::motion_reg},
-          {"motion_reg_label", &JointWeights::motion_reg_label},
-          {"motion_reg_app", &JointWeights::motion_reg_app},
-          {"pose", &JointWeights::pose},
-          {"pose_2d", &JointWeights::pose_2d},
-          {"pose_3d", &JointWeights::pose_3d}};
-}
-
-std::vector<std::pair<std::string, bool JointTerms::*>> TermFields() {
-  return {{"depth", &JointTerms::depth},           {"appearance", &JointTerms::appearance},
-          {"semantic", &JointTerms::semantic},     {"flow", &JointTerms::flow},
-          {"smooth", &JointTerms::smooth},         {"contrast", &JointTerms::contrast},
-          {"motion_reg", &JointTerms::motion_reg}, {"pose", &JointTerms::pose}};
-}
-
-}  // namespace
 
 void JointWeights::Check() const {
-  for (const auto& [key, field] : WeightFields()) {
-    const double v = this->*field;
-    U4D_CHECK(std::isfinite(v) && v >= 0, "joint weight {} must be finite and >= 0, got {}", key,
+  JointWeights copy = *this;
+  for (const OptionEntry& e : OptionsOf(&copy).Entries()) {
+    const double v = e.get().get<double>();
+    U4D_CHECK(std::isfinite(v) && v >= 0, "joint weight {} must be finite and >= 0, got {}", e.key,
               v);
   }
 }
@@ -94,40 +64,22 @@ JointTerms AblationTerms(const std::string& name) {
 }
 
 nlohmann::json ToJson(const JointWeights& weights) {
-  nlohmann::json j = nlohmann::json::object();
-  for (const auto& [key, field] : WeightFields()) j[key] = weights.*field;
-  return j;
+  JointWeights copy = weights;
+  return OptionsToJson(OptionsOf(&copy));
 }
 
 nlohmann::json ToJson(const JointTerms& terms) {
-  nlohmann::json j = nlohmann::json::object();
-  for (const auto& [key, field] : TermFields()) j[key] = terms.*field;
-  return j;
+  JointTerms copy = terms;
+  return OptionsToJson(OptionsOf(&copy));
 }
 
 void UpdateFromJson(const nlohmann::json& j, const std::string& context, JointWeights* weights) {
-  U4D_CHECK(j.is_object(), "{}: joint weights must be a JSON object", context);
-  const auto fields = WeightFields();
-  for (const auto& [key, value] : j.items()) {
-    auto it =
-        std::find_if(fields.begin(), fields.end(), [&](const auto& f) { return f.first == key; });
-    U4D_CHECK(it != fields.end(), "{}: unknown joint weight '{}'", context, key);
-    U4D_CHECK(value.is_number(), "{}: joint weight '{}' must be a number", context, key);
-    weights->*(it->second) = value.get<double>();
-  }
+  UpdateOptionsFromJson(OptionsOf(weights), j, context + ": joint weights");
   weights->Check();
 }
 
 void UpdateFromJson(const nlohmann::json& j, const std::string& context, JointTerms* terms) {
-  U4D_CHECK(j.is_object(), "{}: joint terms must be a JSON object", context);
-  const auto fields = TermFields();
-  for (const auto& [key, value] : j.items()) {
-    auto it =
-        std::find_if(fields.begin(), fields.end(), [&](const auto& f) { return f.first == key; });
-    U4D_CHECK(it != fields.end(), "{}: unknown joint term '{}'", context, key);
-    U4D_CHECK(value.is_boolean(), "{}: joint term '{}' must be true or false", context, key);
-    terms->*(it->second) = value.get<bool>();
-  }
+  UpdateOptionsFromJson(OptionsOf(terms), j, context + ": joint terms");
 }
 
 }  // namespace u4d

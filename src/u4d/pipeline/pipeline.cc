@@ -632,11 +632,14 @@ void WriteIndex(const Context& c, const KeyframeSelection& sel, const std::vecto
 void CheckResumable(const fs::path& out, const nlohmann::json& params, bool resume) {
   const fs::path path = out / layout::SceneParams();
   if (!resume || !fs::exists(path)) return;
-  const nlohmann::json before = ReadJsonFile(path);
-  U4D_CHECK(before == params,
-            "{} holds a run with other options or another capture; write to a new directory, or "
-            "run with --no-resume to recompute everything there",
-            out.string());
+  const nlohmann::json before = RunOptions::ResumeKey(ReadJsonFile(path));
+  const nlohmann::json now = RunOptions::ResumeKey(params);
+  if (before == now) return;
+  const nlohmann::json diff = nlohmann::json::diff(before, now);
+  ThrowError(fmt::format(
+      "{} holds a run with other options or another capture (first difference: {} {}); write to "
+      "a new directory, or run with --no-resume to recompute everything there",
+      out.string(), diff.at(0).value("op", ""), diff.at(0).value("path", "")));
 }
 
 }  // namespace

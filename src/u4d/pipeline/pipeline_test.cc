@@ -358,10 +358,21 @@ TEST(PipelineTest, CorruptFrameAndMismatchedOptionsFailClearly) {
   EXPECT_TRUE(log.StageDone("poses"));
   EXPECT_FALSE(log.StageDone("initial"));
 
-  // The same directory with other options is refused rather than mixed.
+  // The same directory with other options is refused rather than mixed,
+  // whatever the option (params.json holds every one, e.g. the unsupervised
+  // masks' foreground threshold, unused with the given masks here); options
+  // that only control the run (threads) do not count.
   RunOptions other = FastOptions();
   other.ablation = "P_M";
   EXPECT_THROW(RunPipeline(capture, scene, other), Error);
+  RunOptions other_init = FastOptions();
+  other_init.init.threshold_sigmas = 5;
+  test_util::ExpectErrorMentions([&] { RunPipeline(capture, scene, other_init); },
+                                 {"other options", "/init/threshold_sigmas"});
+  RunOptions other_threads = FastOptions();
+  other_threads.threads = 2;
+  test_util::ExpectErrorMentions([&] { RunPipeline(capture, scene, other_threads); },
+                                 {frame.filename().string()});
 
   // Inputs named explicitly but absent from the capture (the synthetic one
   // has masks and 2D keypoints, no given 3D poses) are refused by name,

@@ -1,6 +1,12 @@
 #include "u4d/pipeline/run_options.h"
 
+#include "u4d/features/features_options.h"
+#include "u4d/fusion/fusion_options.h"
+#include "u4d/init/init_options.h"
+#include "u4d/joint/joint_options.h"
 #include "u4d/joint/parameters.h"
+#include "u4d/keyframes/keyframes_options.h"
+#include "u4d/pose/pose_options.h"
 #include "u4d/util/check.h"
 
 namespace u4d {
@@ -55,6 +61,9 @@ void RunOptions::Check() const {
             keyframe_mask_width);
   U4D_CHECK(threads >= 0, "RunOptions.threads must be >= 0, got {}", threads);
   AblationTerms(ablation);  // throws on an unknown name
+  U4D_CHECK(!paper_weights || u4d::ToJson(joint.weights) == u4d::ToJson(JointWeights()),
+            "RunOptions: joint.weights are set but paper_weights is true, so the paper's table "
+            "would replace them; set paper_weights to false to use them");
   background.Check();
   init.Check();
   frame_setup.Check();
@@ -72,68 +81,64 @@ void RunOptions::Check() const {
 }
 
 nlohmann::json RunOptions::ToJson() const {
-  using nlohmann::json;
-  return json{
-      {"first_frame", first_frame},
-      {"num_frames", num_frames},
-      {"masks", ToString(masks)},
-      {"poses", ToString(poses)},
-      {"ablation", ablation},
-      {"picture_width", picture_width},
-      {"track_chunk_frames", track_chunk_frames},
-      {"keyframe_mask_width", keyframe_mask_width},
-      {"paper_weights", paper_weights},
-      {"frame_setup",
-       {{"working_width", frame_setup.working_width},
-        {"depth_margin_m", frame_setup.depth_margin_m},
-        {"min_joints_inside", frame_setup.min_joints_inside}}},
-      {"joint",
-       {{"weights", u4d::ToJson(joint.weights)},
-        {"rounds", joint.rounds},
-        {"sweeps_per_block", joint.sweeps_per_block},
-        {"motion_rounds", joint.motion_rounds},
-        {"depth_coarse_step", joint.depth_coarse_step},
-        {"depth_refine_band", joint.depth_refine_band},
-        {"depth_truncation", joint.depth_truncation},
-        {"motion_truncation_px", joint.motion_truncation_px},
-        {"roi_margin_px", joint.roi_margin_px},
-        {"depth_object_ranges", joint.depth_object_ranges},
-        {"motion_candidates_per_pixel", joint.motion_candidates_per_pixel},
-        {"motion_reg_quadratic", joint.motion_reg_quadratic},
-        {"motion_reg_edge_aware", joint.motion_reg_edge_aware},
-        {"motion_reg_boundary", static_cast<int>(joint.motion_reg_boundary)},
-        {"flow_fusion",
-         {{"enabled", joint.fusion.enabled},
-          {"proposals",
-           {joint.fusion.refined, joint.fusion.deepflow, joint.fusion.dis_fine, joint.fusion.dis,
-            joint.fusion.smoothed}},
-          {"rounds", joint.fusion.rounds}}}}},
-      {"pose_smoothing",
-       {{"window_seconds", pose_smoothing.window_seconds}, {"degree", pose_smoothing.degree}}},
-      {"tracks",
-       {{"window", tracks.window},
-        {"ratio", tracks.ratio},
-        {"max_features", tracks.max_features},
-        {"symmetry_test", tracks.symmetry_test},
-        {"add_joint_tracks", tracks.add_joint_tracks}}},
-      {"keyframes",
-       {{"threshold", keyframes.threshold},
-        {"use",
-         {keyframes.use_correspondence, keyframes.use_semantic, keyframes.use_distance,
-          keyframes.use_pose, keyframes.use_shape}},
-        {"pose_scale_m", keyframes.pose_scale_m},
-        {"distance_scale", keyframes.distance_scale}}},
-      {"fusion",
-       {{"pixel_step", fusion.pixel_step},
-        {"poisson_depth", fusion.poisson_depth},
-        {"consistency_filter", fusion.consistency_filter},
-        {"consistency_tolerance", fusion.consistency_tolerance},
-        {"density_quantile", fusion.density_quantile}}},
-      {"scene_flow",
-       {{"visibility_tolerance", scene_flow.visibility_tolerance},
-        {"consistency_tolerance", scene_flow.consistency_tolerance}}},
-      {"gltf_fps", gltf.fps},
-  };
+  RunOptions copy = *this;
+  return OptionsToJson(OptionsOf(&copy));
+}
+
+nlohmann::json RunOptions::ResumeKey(nlohmann::json params) {
+  RunOptions defaults;
+  EraseRunControlOptions(OptionsOf(&defaults), &params);
+  return params;
+}
+
+void DeclareOptions(OptionRegistry& r, RunOptions* o) {
+  r.Add("first_frame", &o->first_frame, "first frame of the capture to run");
+  r.Add("num_frames", &o->num_frames, "frames to run (-1: to the end of the capture)");
+  r.AddEnum("masks", &o->masks,
+            {{"auto", MaskSource::kAuto},
+             {"given", MaskSource::kGiven},
+             {"unsupervised", MaskSource::kUnsupervised}},
+            "initial masks: auto (the capture's masks/ when present, else unsupervised), given, "
+            "unsupervised");
+  r.AddEnum(
+      "poses", &o->poses,
+      {{"auto", PoseSource::kAuto},
+       {"given3d", PoseSource::kGiven3d},
+       {"from2d", PoseSource::kFrom2d},
+       {"none", PoseSource::kNone}},
+      "3D poses: auto (poses3d/, else poses2d/ triangulated, else none), given3d, from2d, none");
+  r.Add("ablation", &o->ablation,
+        "energy terms on: full, P_M, P_P, P_PM, P_S, P_PS (AblationTerms; replaces joint.terms)");
+  r.Add("picture_width", &o->picture_width, "viewer pictures (0 = the camera's width)");
+  r.Add("track_chunk_frames", &o->track_chunk_frames,
+        "temporal tracks are linked within chunks of this many frames (bounded memory on long "
+        "captures)");
+  r.Add("keyframe_mask_width", &o->keyframe_mask_width,
+        "masks are downscaled to this width for KS_ij");
+  r.Add("evaluate", &o->evaluate, "write eval.json when the capture has gt/",
+        OptionRole::kRunControl);
+  r.Add("resume", &o->resume, "skip the segments an earlier run finished", OptionRole::kRunControl);
+  r.Add("threads", &o->threads, "views solved in parallel (0 = TBB's default)",
+        OptionRole::kRunControl);
+  r.Add("progress", &o->progress, "progress bars on stderr", OptionRole::kRunControl);
+  r.Add("allow_empty", &o->allow_empty,
+        "succeed even when no frame has an object (else u4d::Error)", OptionRole::kRunControl);
+  r.Nested("background", &o->background);
+  r.Nested("init", &o->init);
+  r.Nested("frame_setup", &o->frame_setup);
+  r.Nested("joint", &o->joint);
+  r.Add("paper_weights", &o->paper_weights,
+        "set joint.weights from the paper's table for the capture");
+  r.Nested("pose", &o->pose);
+  r.Nested("pose_tracking", &o->pose_tracking);
+  r.Nested("pose_smoothing", &o->pose_smoothing);
+  r.Nested("sparse", &o->sparse);
+  r.Nested("regions", &o->regions);
+  r.Nested("tracks", &o->tracks);
+  r.Nested("keyframes", &o->keyframes);
+  r.Nested("fusion", &o->fusion);
+  r.Nested("scene_flow", &o->scene_flow);
+  r.Nested("gltf", &o->gltf);
 }
 
 }  // namespace u4d

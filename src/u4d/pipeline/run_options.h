@@ -1,6 +1,9 @@
 // Options of `u4d run` (pipeline.h): which inputs to use, the frame range,
-// the working resolution and every stage's algorithm options. They are
-// written to the scene's params.json, and a resumed run must use the same.
+// the working resolution and every stage's algorithm options. Every field is
+// declared once (DeclareOptions, util/options.h): all of them are written to
+// the scene's params.json, `u4d run --config` and `--set` override any of them,
+// docs/options.md lists them, and a resumed run must use the same values of
+// every option that changes results (ResumeKey).
 #pragma once
 
 #include <string>
@@ -20,6 +23,7 @@
 #include "u4d/pose/multiview_pose.h"
 #include "u4d/pose/pose_smoothing.h"
 #include "u4d/pose/pose_tracking.h"
+#include "u4d/util/options.h"
 
 namespace u4d {
 
@@ -74,9 +78,17 @@ struct RunOptions {
   GltfOptions gltf;
 
   void Check() const;  // throws u4d::Error naming the bad field
-  // The options that change results (not threads/progress/resume/allow_empty), for
-  // params.json and the resume check.
+  // Every option (DeclareOptions below), for params.json.
   nlohmann::json ToJson() const;
+  // `params` (ToJson(), possibly with more top-level fields) without the run
+  // control options (evaluate, resume, threads, progress, allow_empty): what a
+  // resumed run must share with the run that wrote the scene.
+  static nlohmann::json ResumeKey(nlohmann::json params);
 };
+// Every field of RunOptions and of the structs nested in it, declared once.
+void DeclareOptions(OptionRegistry& r, RunOptions* o);
+// Its fields, declared once for params.json, --config and docs/options.md
+// (util/options.h).
+void DeclareOptions(OptionRegistry& r, RunOptions* o);
 
 }  // namespace u4d

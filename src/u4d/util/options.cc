@@ -23,6 +23,12 @@ OptionEntry Typed(T* field, const std::string& type) {
   return e;
 }
 
+// "a.b.c" -> "a/b/c" (a JSON pointer's path; keys hold no '/' or '~').
+std::string ReplaceDots(std::string key) {
+  std::replace(key.begin(), key.end(), '.', '/');
+  return key;
+}
+
 bool IsGroup(const OptionRegistry& registry, const std::string& key) {
   const std::string prefix = key + ".";
   for (const OptionEntry& e : registry.Entries())
@@ -155,6 +161,16 @@ nlohmann::json OptionsToJson(const OptionRegistry& registry, bool result_only) {
     (*node)[e.key.substr(begin)] = e.get();
   }
   return out;
+}
+
+void EraseRunControlOptions(const OptionRegistry& registry, nlohmann::json* j) {
+  for (const OptionEntry& e : registry.Entries()) {
+    if (e.role != OptionRole::kRunControl) continue;
+    const nlohmann::json::json_pointer pointer("/" + ReplaceDots(e.key));
+    if (!j->contains(pointer)) continue;
+    nlohmann::json& parent = (*j)[pointer.parent_pointer()];
+    if (parent.is_object()) parent.erase(pointer.back());
+  }
 }
 
 void UpdateOptionsFromJson(const OptionRegistry& registry, const nlohmann::json& j,

@@ -112,6 +112,10 @@ OptionRegistry OptionsOf(T* options) {
 // Every field (or only the result-changing ones) as nested JSON objects.
 nlohmann::json OptionsToJson(const OptionRegistry& registry, bool result_only = false);
 
+// Removes the run-control fields (OptionRole::kRunControl) from `j`, JSON as
+// written by OptionsToJson (other keys are left alone; absent ones are fine).
+void EraseRunControlOptions(const OptionRegistry& registry, nlohmann::json* j);
+
 // Overrides the fields present in the object `j` (nested objects for nested
 // structs; absent fields keep their values). An unknown key or a value of the
 // wrong type throws, naming `context` and the dotted key.

@@ -1,0 +1,13 @@
+// The fields of the options structs of key-frame selection (keyframe_similarity.h), each declared
+// once (name, help; the default is the struct's initialiser): params.json, `u4d run --config` /
+// `--set` and docs/options.md come from these (util/options.h). Check() stays with each struct.
+#pragma once
+
+#include "u4d/keyframes/keyframe_similarity.h"
+#include "u4d/util/options.h"
+
+namespace u4d {
+
+void DeclareOptions(OptionRegistry& r, KeyframeOptions* o);
+
+}  // namespace u4d
