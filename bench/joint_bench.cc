@@ -11,15 +11,18 @@
 // A plain executable that prints; run from a Release build:
 //   build/bench/joint_bench [--views 8] [--width 480] [--height 270] [--frames 4]
 //       [--start 128] [--preset handshake|meetup|realistic|realistic-moving] [--sparse 150]
-//       [--no-ablations]
-//       [--max-views N] [--working-width 480] [--methods full,P_M,...]
-//       [--reg-boundary free|discontinuity|ignore] [--weights '{"pose": 0.9}'] [--no-cross-view]
-//       [--reg-linear] [--no-reg-edge] [--force-merge] [--no-split-merged]
-//       [--per-view] [--dump DIR] [--pose-3d-own-label] [--semantic-temporal]
-//       [--occluder-limb-radius M] [--appearance-refits N] [--appearance-inset PX]
-//       [--no-carry-depth] [--depth-coarse-step N] [--sweeps N]
-//       [--depth-refine-band N] [--fusion-rounds N] [--no-depth-object-ranges]
-//       [--motion-window N] [--motion-candidates K]
+//       [--no-ablations] [--max-views N] [--methods full,P_M,...] [--weights '{"pose": 0.9}']
+//       [--force-merge] [--per-view] [--dump DIR]
+//       [the options of `u4d run`: --config FILE, --set KEY=VALUE and its named flags
+//        (pipeline/run_flags.h, docs/options.md), e.g. --working-width 480 --rounds 2
+//        --motion-candidates K; the joint and frame_setup options apply here]
+//       [shorthands for options (BenchFlags below): --no-cross-view --reg-linear
+//        --no-reg-edge --reg-boundary free|discontinuity|ignore --no-split-merged
+//        --pose-3d-own-label --semantic-temporal --occluder-limb-radius M
+//        --appearance-refits N --appearance-inset PX --no-carry-depth --depth-coarse-step N
+//        --sweeps N --depth-refine-band N --fusion-rounds N --no-depth-object-ranges
+//        --motion-window N]
+// --weights JSON overrides the paper's row of weights for the capture.
 // --per-view: one line per method and view-frame (IoU, depth within 5 %, flow
 // EPE), for paired comparisons of the ablations. --dump DIR: per view-frame
 // f<frame>_v<view>_<name>: the initial, GT and each method's labels (16-bit
@@ -63,6 +66,7 @@
 #include "u4d/joint/joint_view.h"
 #include "u4d/joint/truth_inputs.h"
 #include "u4d/pipeline/initial_objects.h"
+#include "u4d/pipeline/run_flags.h"
 #include "u4d/synth/generate.h"
 #include "u4d/util/check.h"
 #include "u4d/util/timer.h"
@@ -76,34 +80,39 @@ struct Args {
   std::string preset = "handshake";
   int sparse = 150;
   bool ablations = true;
-  int max_views = -1;  // views solved per frame (-1 = all)
-  int working_width = 480;
-  std::string weights;      // JSON overriding PaperWeights (keys of ToJson(JointWeights))
-  bool cross_view = true;   // e_F^V on
-  bool reg_linear = false;  // E_r truncated linear instead of quadratic
-  bool reg_edge = true;     // E_r weight times the colour contrast weight (default on)
-  std::string methods;      // comma-separated subset of full and the ablations (empty = all)
-  std::string
-      reg_boundary;  // E_r at label boundaries: free | discontinuity | ignore (empty = default)
-  bool force_merge = false;         // every touching pair merged in the initial masks (see above)
-  bool start_given = false;         // --start was given
-  bool split_merged = true;         // FrameSetupOptions::split_merged (--no-split-merged: off)
-  bool per_view = false;            // print every method's IoU / depth / EPE per view-frame
-  bool semantic_temporal = false;   // JointViewOptions::semantic_temporal = true
-  bool pose_3d_own_label = false;   // PosePriorOptions::shape_own_label_only = true
-  double occluder_limb = -1;        // PosePriorOptions::occluder_limb_radius_m (-1 = default)
-  int appearance_refits = -1;       // JointViewOptions::appearance_refits (-1 = default)
-  int appearance_inset = -1;        // LabelCostOptions::appearance_inset_px (-1 = default)
-  bool carry_depth = true;          // JointViewOptions::label_moves_carry_depth
-  int depth_coarse_step = -1;       // JointViewOptions::depth_coarse_step (-1 = default)
-  int depth_refine_band = -1;       // JointViewOptions::depth_refine_band (-1 = default)
-  bool depth_object_ranges = true;  // JointViewOptions::depth_object_ranges
-  int motion_window = -1;           // MotionLabelOptions::window (-1 = default)
-  int motion_candidates = -1;       // JointViewOptions::motion_candidates_per_pixel (-1 = default)
-  int fusion_rounds = -1;           // FlowFusionOptions::rounds (-1 = default)
-  int sweeps = -1;                  // JointViewOptions::sweeps_per_block (-1 = default)
-  std::string dump;  // folder: per view-frame labels, depth, truth and pose map (diagnosis)
+  int max_views = -1;        // views solved per frame (-1 = all)
+  std::string weights;       // JSON overriding PaperWeights (keys of ToJson(JointWeights))
+  std::string methods;       // comma-separated subset of full and the ablations (empty = all)
+  bool force_merge = false;  // every touching pair merged in the initial masks (see above)
+  bool start_given = false;  // --start was given
+  bool per_view = false;     // print every method's IoU / depth / EPE per view-frame
+  std::string dump;          // folder: per view-frame labels, depth, truth and pose map (diagnosis)
+  RunOverrides overrides;    // the options (joint, frame_setup) as `u4d run` takes them
 };
+
+// The bench's shorthands for options of `u4d run` (keys of docs/options.md).
+const std::vector<OptionFlag>& BenchFlags() {
+  static const std::vector<OptionFlag> flags = {
+      {"--no-cross-view", "joint.flow.cross_view", "false"},
+      {"--reg-linear", "joint.motion_reg_quadratic", "false"},
+      {"--no-reg-edge", "joint.motion_reg_edge_aware", "false"},
+      {"--reg-boundary", "joint.motion_reg_boundary", ""},
+      {"--no-split-merged", "frame_setup.split_merged", "false"},
+      {"--pose-3d-own-label", "joint.pose.shape_own_label_only", "true"},
+      {"--semantic-temporal", "joint.semantic_temporal", "true"},
+      {"--occluder-limb-radius", "joint.pose.occluder_limb_radius_m", ""},
+      {"--appearance-refits", "joint.appearance_refits", ""},
+      {"--appearance-inset", "joint.labels.appearance_inset_px", ""},
+      {"--no-carry-depth", "joint.label_moves_carry_depth", "false"},
+      {"--depth-coarse-step", "joint.depth_coarse_step", ""},
+      {"--sweeps", "joint.sweeps_per_block", ""},
+      {"--depth-refine-band", "joint.depth_refine_band", ""},
+      {"--fusion-rounds", "joint.fusion.rounds", ""},
+      {"--no-depth-object-ranges", "joint.depth_object_ranges", "false"},
+      {"--motion-window", "joint.motion_labels.window", ""},
+  };
+  return flags;
+}
 
 Args ParseArgs(int argc, char** argv) {
   Args a;
@@ -113,6 +122,7 @@ Args ParseArgs(int argc, char** argv) {
       U4D_CHECK(i + 1 < argc, "joint_bench: {} needs a value", k);
       return argv[++i];
     };
+    // The bench's own flags first: its --frames is the capture's length.
     if (k == "--views")
       a.views = std::stoi(next());
     else if (k == "--width")
@@ -125,8 +135,6 @@ Args ParseArgs(int argc, char** argv) {
       a.start = std::stoi(next()), a.start_given = true;
     else if (k == "--force-merge")
       a.force_merge = true;
-    else if (k == "--no-split-merged")
-      a.split_merged = false;
     else if (k == "--preset")
       a.preset = next();
     else if (k == "--sparse")
@@ -135,60 +143,20 @@ Args ParseArgs(int argc, char** argv) {
       a.ablations = false;
     else if (k == "--max-views")
       a.max_views = std::stoi(next());
-    else if (k == "--working-width")
-      a.working_width = std::stoi(next());
     else if (k == "--weights")
       a.weights = next();
-    else if (k == "--no-reg-edge")
-      a.reg_edge = false;
-    else if (k == "--reg-linear")
-      a.reg_linear = true;
-    else if (k == "--no-cross-view")
-      a.cross_view = false;
     else if (k == "--methods")
       a.methods = next();
-    else if (k == "--reg-boundary")
-      a.reg_boundary = next();
     else if (k == "--per-view")
       a.per_view = true;
     else if (k == "--dump")
       a.dump = next();
-    else if (k == "--pose-3d-own-label")
-      a.pose_3d_own_label = true;
-    else if (k == "--semantic-temporal")
-      a.semantic_temporal = true;
-    else if (k == "--occluder-limb-radius")
-      a.occluder_limb = std::stod(next());
-    else if (k == "--appearance-refits")
-      a.appearance_refits = std::stoi(next());
-    else if (k == "--appearance-inset")
-      a.appearance_inset = std::stoi(next());
-    else if (k == "--no-carry-depth")
-      a.carry_depth = false;
-    else if (k == "--depth-coarse-step")
-      a.depth_coarse_step = std::stoi(next());
-    else if (k == "--sweeps")
-      a.sweeps = std::stoi(next());
-    else if (k == "--depth-refine-band")
-      a.depth_refine_band = std::stoi(next());
-    else if (k == "--fusion-rounds")
-      a.fusion_rounds = std::stoi(next());
-    else if (k == "--no-depth-object-ranges")
-      a.depth_object_ranges = false;
-    else if (k == "--motion-window")
-      a.motion_window = std::stoi(next());
-    else if (k == "--motion-candidates")
-      a.motion_candidates = std::stoi(next());
-    else
+    else if (!a.overrides.Take(argc, argv, &i, BenchFlags()))
       throw Error(fmt::format(
           "joint_bench: unknown argument '{}' (expected --views, --width, --height, --frames, "
-          "--start, --preset, --sparse, --no-ablations, --max-views, --working-width, --methods, "
-          "--reg-boundary, --weights, --no-cross-view, --reg-linear, --no-reg-edge, --force-merge, "
-          "--no-split-merged, --per-view, --dump, --pose-3d-own-label, "
-          "--semantic-temporal, --occluder-limb-radius, --appearance-refits, "
-          "--appearance-inset, --no-carry-depth, --depth-coarse-step, --sweeps, "
-          "--depth-refine-band, --fusion-rounds, --no-depth-object-ranges, --motion-window, "
-          "--motion-candidates)",
+          "--start, --preset, --sparse, --no-ablations, --max-views, --methods, --weights, "
+          "--force-merge, --per-view, --dump, or an option of `u4d run`: --config, --set, "
+          "its named flags, the shorthands of the header)",
           k));
   }
   U4D_CHECK(a.frames >= 3, "joint_bench: --frames must be >= 3 (frames 1..frames-2 are solved)");
@@ -292,10 +260,11 @@ int main(int argc, char** argv) try {
   std::vector<TraceStats> trace;
   int num_depth_labels = 0, num_motion_labels = 0, solved_views = 0;
   const eval::InstanceSegOptions seg_options;
-  FrameSetupOptions setup;
-  setup.working_width = args.working_width;
-  setup.split_merged = args.split_merged;
-  if (args.occluder_limb >= 0) setup.pose.occluder_limb_radius_m = args.occluder_limb;
+  RunOptions run;
+  args.overrides.ApplyTo(&run);
+  run.Check();
+  FrameSetupOptions setup = run.frame_setup;
+  setup.pose = run.joint.pose;  // one capsule model, as in the pipeline
   double scale = 0;
   std::map<std::string, eval::FusedReconstruction> recon;
 
@@ -308,36 +277,10 @@ int main(int argc, char** argv) try {
       data.sparse[v] = SparseMotionsFromTruth(truth.back(), args.sparse, 11 + v + 100 * frame);
     }
     const std::vector<JointViewInput> inputs = MakeJointViewInputs(data, setup, &scale);
-    JointViewOptions options;
-    options.weights = PaperWeights(capture.scene, capture.NumViews());
+    JointViewOptions options = run.joint;
+    if (run.paper_weights) options.weights = PaperWeights(capture.scene, capture.NumViews());
     if (!args.weights.empty())
       UpdateFromJson(nlohmann::json::parse(args.weights), "--weights", &options.weights);
-    options.flow.cross_view = args.cross_view;
-    options.motion_reg_quadratic = !args.reg_linear;
-    options.motion_reg_edge_aware = args.reg_edge;
-    options.pose.shape_own_label_only = args.pose_3d_own_label;
-    if (args.appearance_refits >= 0) options.appearance_refits = args.appearance_refits;
-    if (args.appearance_inset >= 0) options.labels.appearance_inset_px = args.appearance_inset;
-    options.semantic_temporal = args.semantic_temporal;
-    options.label_moves_carry_depth = args.carry_depth;
-    if (args.depth_coarse_step >= 0) options.depth_coarse_step = args.depth_coarse_step;
-    if (args.depth_refine_band >= 0) options.depth_refine_band = args.depth_refine_band;
-    if (args.fusion_rounds >= 0) options.fusion.rounds = args.fusion_rounds;
-    options.depth_object_ranges = args.depth_object_ranges;
-    if (args.motion_window >= 0) options.motion_labels.window = args.motion_window;
-    if (args.motion_candidates >= 0) options.motion_candidates_per_pixel = args.motion_candidates;
-    if (args.sweeps >= 0) options.sweeps_per_block = args.sweeps;
-    if (args.occluder_limb >= 0) options.pose.occluder_limb_radius_m = args.occluder_limb;
-    if (args.reg_boundary == "free")
-      options.motion_reg_boundary = MotionRegBoundary::kFree;
-    else if (args.reg_boundary == "discontinuity")
-      options.motion_reg_boundary = MotionRegBoundary::kDiscontinuity;
-    else if (args.reg_boundary == "ignore")
-      options.motion_reg_boundary = MotionRegBoundary::kIgnoreLabels;
-    else
-      U4D_CHECK(args.reg_boundary.empty(),
-                "joint_bench: --reg-boundary must be free, discontinuity or ignore, got '{}'",
-                args.reg_boundary);
     const int nv =
         args.max_views > 0 ? std::min(args.max_views, capture.NumViews()) : capture.NumViews();
     // Each depth method's maps of this frame, per view, for the fused reconstruction.

@@ -7,7 +7,8 @@
 // 1% / 5%, flow EPE on GT person pixels) so that a speed change can be checked
 // not to change the results. A plain executable that prints; Release build:
 //   build/bench/joint_phases_bench [--views 8] [--width 480] [--height 270]
-//       [--working-width 480] [--frames 3] [--start 128] [--max-views N] [--repeats 1]
+//       [--frames 3] [--start 128] [--max-views N] [--repeats 1] [the options of `u4d run`:
+//       --config FILE, --set KEY=VALUE, its named flags such as --working-width 480]
 // --repeats solves each view that many times (the phase times are averaged).
 #include <cstdio>
 #include <map>
@@ -26,6 +27,7 @@
 #include "u4d/joint/joint_view.h"
 #include "u4d/joint/parameters.h"
 #include "u4d/joint/truth_inputs.h"
+#include "u4d/pipeline/run_flags.h"
 #include "u4d/synth/generate.h"
 #include "u4d/util/check.h"
 #include "u4d/util/timer.h"
@@ -35,22 +37,24 @@ using namespace u4d;
 namespace {
 
 struct Args {
-  int views = 8, width = 480, height = 270, working_width = 480, frames = 3, start = 128;
+  int views = 8, width = 480, height = 270, frames = 3, start = 128;
   int max_views = -1, repeats = 1;
+  RunOverrides overrides;  // the joint and frame_setup options, as `u4d run` takes them
 };
 
 Args ParseArgs(int argc, char** argv) {
   Args a;
-  const std::map<std::string, int*> ints = {
-      {"--views", &a.views},         {"--width", &a.width},
-      {"--height", &a.height},       {"--working-width", &a.working_width},
-      {"--frames", &a.frames},       {"--start", &a.start},
-      {"--max-views", &a.max_views}, {"--repeats", &a.repeats}};
+  const std::map<std::string, int*> ints = {{"--views", &a.views},    {"--width", &a.width},
+                                            {"--height", &a.height},  {"--frames", &a.frames},
+                                            {"--start", &a.start},    {"--max-views", &a.max_views},
+                                            {"--repeats", &a.repeats}};
   for (int i = 1; i < argc; ++i) {
     const auto it = ints.find(argv[i]);
+    if (it == ints.end() && a.overrides.Take(argc, argv, &i)) continue;
     U4D_CHECK(it != ints.end() && i + 1 < argc,
               "joint_phases_bench: unknown argument or missing value '{}' (expected --views, "
-              "--width, --height, --working-width, --frames, --start, --max-views, --repeats)",
+              "--width, --height, --frames, --start, --max-views, --repeats, or an option of "
+              "`u4d run`: --config, --set, its named flags such as --working-width)",
               argv[i]);
     *it->second = std::stoi(argv[++i]);
   }
@@ -71,8 +75,11 @@ int main(int argc, char** argv) try {
   FrameReader reader(capture);
   const std::vector<std::vector<Pose3d>> poses = ReadGtPoses3d(capture);
 
-  FrameSetupOptions setup;
-  setup.working_width = args.working_width;
+  RunOptions run;
+  args.overrides.ApplyTo(&run);
+  run.Check();
+  FrameSetupOptions setup = run.frame_setup;
+  setup.pose = run.joint.pose;  // one capsule model, as in the pipeline
   const eval::InstanceSegOptions seg_options;
   eval::InstanceSegAccumulator seg;
   eval::DepthMetrics depth;
@@ -89,8 +96,8 @@ int main(int argc, char** argv) try {
     }
     double scale = 0;
     const std::vector<JointViewInput> inputs = MakeJointViewInputs(data, setup, &scale);
-    JointViewOptions options;
-    options.weights = PaperWeights(capture.scene, capture.NumViews());
+    JointViewOptions options = run.joint;
+    if (run.paper_weights) options.weights = PaperWeights(capture.scene, capture.NumViews());
     const int nv =
         args.max_views > 0 ? std::min(args.max_views, capture.NumViews()) : capture.NumViews();
     for (int v = 0; v < nv; ++v) {
@@ -126,7 +133,7 @@ int main(int argc, char** argv) try {
   }
   U4D_CHECK(solves > 0, "joint_phases_bench: no view had an object to solve");
   std::printf("\ncapture %d views %dx%d, working width %d, %d solves\n", args.views, args.width,
-              args.height, args.working_width, solves);
+              args.height, setup.working_width, solves);
   std::printf("accuracy: IoU %.4f | depth within 1%% %.4f, 5%% %.4f, AbsRel %.5f | EPE %.4f px\n",
               seg.MeanInstanceIoU(), depth.Delta1Pct(), depth.Delta5Pct(), depth.AbsRel(),
               flow.Epe());

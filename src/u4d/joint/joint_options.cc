@@ -12,7 +12,8 @@ void DeclareOptions(OptionRegistry& r, FrameSetupOptions* o) {
         "it goes whole to one person)");
   r.Add("min_joint_confidence", &o->min_joint_confidence,
         "joints below this confidence are missing");
-  r.Nested("pose", &o->pose);
+  // `pose` (the capsule model) is not declared: it is JointViewOptions::pose,
+  // which callers copy in (the pipeline does), so the capsules are one setting.
 }
 
 void DeclareOptions(OptionRegistry& r, PosePriorOptions* o) {

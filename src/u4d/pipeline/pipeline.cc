@@ -628,6 +628,20 @@ void WriteIndex(const Context& c, const KeyframeSelection& sel, const std::vecto
   WriteSceneIndex(c.out, index);
 }
 
+// The terms switched on in both `a` and `b`.
+JointTerms TermsOnInBoth(const JointTerms& a, const JointTerms& b) {
+  JointTerms t;
+  t.depth = a.depth && b.depth;
+  t.appearance = a.appearance && b.appearance;
+  t.semantic = a.semantic && b.semantic;
+  t.flow = a.flow && b.flow;
+  t.smooth = a.smooth && b.smooth;
+  t.contrast = a.contrast && b.contrast;
+  t.motion_reg = a.motion_reg && b.motion_reg;
+  t.pose = a.pose && b.pose;
+  return t;
+}
+
 // Refuses to mix two runs' results in one directory.
 void CheckResumable(const fs::path& out, const nlohmann::json& params, bool resume) {
   const fs::path path = out / layout::SceneParams();
@@ -654,7 +668,11 @@ RunResult RunPipeline(const fs::path& capture_dir, const fs::path& scene_dir,
   U4D_CHECK(options.first_frame < cap.num_frames,
             "first frame {} is beyond the capture's {} frames", options.first_frame,
             cap.num_frames);
-  Context c{cap, scene_dir, options, options.first_frame, f1, {}, {}, {}, {}, FrameReader(cap)};
+  // One capsule model: the regions and the split of merged instances use the
+  // pose term's (joint.pose; frame_setup.pose is not an option of its own).
+  RunOptions resolved = options;
+  resolved.frame_setup.pose = options.joint.pose;
+  Context c{cap, scene_dir, resolved, options.first_frame, f1, {}, {}, {}, {}, FrameReader(cap)};
   for (const CaptureView& v : cap.views) c.names.push_back(v.name);
   c.masks = ResolveMasks(cap, options.masks);
   c.poses = ResolvePoses(cap, options.poses);
@@ -713,7 +731,7 @@ RunResult RunPipeline(const fs::path& capture_dir, const fs::path& scene_dir,
 
   JointViewOptions joint = options.joint;
   if (options.paper_weights) joint.weights = PaperWeights(cap.scene, c.NumViews());
-  joint.terms = AblationTerms(options.ablation);
+  joint.terms = TermsOnInBoth(options.joint.terms, AblationTerms(options.ablation));
   if (c.poses == PoseSource::kNone) joint.terms.pose = false;
 
   RunResult result;

@@ -68,7 +68,7 @@ void RunOverrides::ApplyTo(RunOptions* options) const {
     SetOptionFromText(registry, flag.key, flag.value.empty() ? value : flag.value, flag.flag);
 }
 
-bool RunOverrides::Take(int argc, char** argv, int* i) {
+bool RunOverrides::Take(int argc, char** argv, int* i, const std::vector<OptionFlag>& extra_flags) {
   const std::string arg = argv[*i];
   auto value = [&]() -> std::string {
     U4D_CHECK(*i + 1 < argc, "{} needs a value", arg);
@@ -82,11 +82,12 @@ bool RunOverrides::Take(int argc, char** argv, int* i) {
     assignments.push_back(value());
     return true;
   }
-  for (const OptionFlag& f : RunOptionFlags()) {
-    if (f.flag != arg) continue;
-    named_flags.emplace_back(f, f.value.empty() ? value() : f.value);
-    return true;
-  }
+  for (const std::vector<OptionFlag>* table : {&RunOptionFlags(), &extra_flags})
+    for (const OptionFlag& f : *table) {
+      if (f.flag != arg) continue;
+      named_flags.emplace_back(f, f.value.empty() ? value() : f.value);
+      return true;
+    }
   return false;
 }
 

@@ -45,10 +45,10 @@ struct RunOverrides {
   void ApplyTo(RunOptions* options) const;
 
   // For a hand-parsed command line (the benches): when argv[*i] is --config,
-  // --set or a named flag, records it with its value (argv[*i + 1]), advances
-  // *i past what it used and returns true; else returns false. Throws when the
-  // value is missing.
-  bool Take(int argc, char** argv, int* i);
+  // --set, a named flag or one of `extra_flags` (a bench's own shorthands),
+  // records it with its value (argv[*i + 1]), moves *i to the last argument it
+  // used and returns true; else returns false. Throws when the value is missing.
+  bool Take(int argc, char** argv, int* i, const std::vector<OptionFlag>& extra_flags = {});
 };
 
 // The help of a named flag: the option's help from the registry and its key.

@@ -108,7 +108,8 @@ void DeclareOptions(OptionRegistry& r, RunOptions* o) {
        {"none", PoseSource::kNone}},
       "3D poses: auto (poses3d/, else poses2d/ triangulated, else none), given3d, from2d, none");
   r.Add("ablation", &o->ablation,
-        "energy terms on: full, P_M, P_P, P_PM, P_S, P_PS (AblationTerms; replaces joint.terms)");
+        "the paper's ablations: full, P_M, P_P, P_PM, P_S, P_PS (AblationTerms); a term is on when "
+        "it is on here and in joint.terms");
   r.Add("picture_width", &o->picture_width, "viewer pictures (0 = the camera's width)");
   r.Add("track_chunk_frames", &o->track_chunk_frames,
         "temporal tracks are linked within chunks of this many frames (bounded memory on long "
