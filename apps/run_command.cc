@@ -86,7 +86,8 @@ Command MakeRunCommand() {
                            "(`u4d options` lists them); applied before --set and the flags below");
             app.add_option("--set", a->overrides.assignments,
                            "KEY=VALUE: one option by its dotted key, e.g. joint.rounds=3 "
-                           "(repeatable; `u4d options` lists the keys)");
+                           "(repeatable; `u4d options` lists the keys)")
+                ->allow_extra_args(false);  // one KEY=VALUE per --set
             AddNamedFlags(app, &a->overrides);
           },
           [=] { return Run(*a); }};
