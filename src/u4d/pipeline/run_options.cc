@@ -129,7 +129,8 @@ void DeclareOptions(OptionRegistry& r, RunOptions* o) {
   r.Nested("frame_setup", &o->frame_setup);
   r.Nested("joint", &o->joint);
   r.Add("paper_weights", &o->paper_weights,
-        "set joint.weights from the paper's table for the capture");
+        "joint.weights := the paper's table row for the capture (scene type, number of views); "
+        "false: joint.weights as given (setting them while this is true is an error)");
   r.Nested("pose", &o->pose);
   r.Nested("pose_tracking", &o->pose_tracking);
   r.Nested("pose_smoothing", &o->pose_smoothing);
