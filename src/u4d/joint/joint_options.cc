@@ -95,6 +95,7 @@ void DeclareOptions(OptionRegistry& r, JointViewOptions* o) {
         "E_sem from the initial masks of t-1, t, t+1 carried to t by DIS flow (the paper's ψ_T; "
         "false: the mask of t only)");
   r.Nested("fusion", &o->fusion);
+  r.Nested("background_flow", &o->background_flow);
   r.Add("roi_margin_px", &o->roi_margin_px, "dilation of the objects' regions (working pixels)");
   r.Add("appearance_refits", &o->appearance_refits,
         "re-learn frame t's colour GMMs from a labelling of the label unaries + E_c this many "
@@ -107,6 +108,12 @@ void DeclareOptions(OptionRegistry& r, JointViewOptions* o) {
       {{"bk", mrf::MaxFlowAlgorithm::kBoykovKolmogorov},
        {"boost_bk", mrf::MaxFlowAlgorithm::kBoostBoykovKolmogorov}},
       "max-flow of the expansion moves: bk (own Boykov-Kolmogorov) or boost_bk (Boost.Graph)");
+}
+
+void DeclareOptions(OptionRegistry& r, BackgroundFlowOptions* o) {
+  r.Add("enabled", &o->enabled,
+        "the flow outside the objects' regions is the camera's rigid flow (false: 0 there)");
+  r.Add("min_depth_m", &o->min_depth_m, "nearest depth a background point may take (> 0)");
 }
 
 void DeclareOptions(OptionRegistry& r, JointWeights* o) {

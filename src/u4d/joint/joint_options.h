@@ -4,6 +4,7 @@
 // Check() stays with each struct.
 #pragma once
 
+#include "u4d/joint/background_flow.h"
 #include "u4d/joint/depth_cost.h"
 #include "u4d/joint/flow_cost.h"
 #include "u4d/joint/frame_setup.h"
@@ -19,6 +20,7 @@ namespace u4d {
 void DeclareOptions(OptionRegistry& r, FrameSetupOptions* o);
 void DeclareOptions(OptionRegistry& r, PosePriorOptions* o);
 void DeclareOptions(OptionRegistry& r, FlowFusionOptions* o);
+void DeclareOptions(OptionRegistry& r, BackgroundFlowOptions* o);
 void DeclareOptions(OptionRegistry& r, JointViewOptions* o);
 void DeclareOptions(OptionRegistry& r, JointWeights* o);
 void DeclareOptions(OptionRegistry& r, JointTerms* o);
