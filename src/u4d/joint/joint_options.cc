@@ -201,6 +201,8 @@ void DeclareOptions(OptionRegistry& r, FlowCostOptions* o) {
   r.Add("sparse", &o->sparse,
         "e_F^S: labels farther than motion_labels.window from every nearby sparse displacement are "
         "forbidden");
+  r.Add("dense_support", &o->dense_support,
+        "e_F^S also allows the motions within motion_labels.window of each pixel's dense match");
   r.Add("max_view_angle_deg", &o->max_view_angle_deg,
         "e_F^V uses only views whose optical axis is within this angle of the reference's "
         "(degrees, in (0, 180])");
