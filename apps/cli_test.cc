@@ -36,7 +36,10 @@ Result RunU4d(const std::vector<std::string>& args) {
   // Bounded, so that a regression (e.g. a server that does start) fails
   // with status 124 instead of hanging the test.
   std::string cmd = "timeout 120 " + Quote(U4D_BINARY);
-  for (const std::string& a : args) cmd += " " + Quote(a);
+  for (const std::string& a : args) {
+    cmd += ' ';  // not `" " + Quote(a)`: GCC 12's false -Wrestrict (bug 105329)
+    cmd += Quote(a);
+  }
   cmd += " 2>&1";
   Result r;
   FILE* pipe = ::popen(cmd.c_str(), "r");

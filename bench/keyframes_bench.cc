@@ -31,7 +31,10 @@ namespace {
 
 std::string Join(const std::vector<int>& v) {
   std::string s;
-  for (int x : v) s += (s.empty() ? "" : " ") + std::to_string(x);
+  for (int x : v) {
+    if (!s.empty()) s += ' ';  // appended, not `" " + ...`: GCC 12's false -Wrestrict
+    s += std::to_string(x);
+  }
   return s;
 }
 

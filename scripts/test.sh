@@ -3,7 +3,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-bash scripts/build.sh
+# Warnings are errors here (and so in CI, .ci/run): a new warning fails the build.
+bash scripts/build.sh -DU4D_WERROR=ON
 export OMP_WAIT_POLICY=passive
 cd build
 ctest --output-on-failure -j "${U4D_JOBS:-$(nproc)}" --timeout 900

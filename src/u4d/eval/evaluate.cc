@@ -173,7 +173,7 @@ void EvaluateDepthMaps(Context& c) {
 cv::Mat ReadGtFlow(const Context& c, const std::string& view, int frame, cv::Mat* valid) {
   const fs::path path = c.root / layout::GtFlow(view, frame);
   if (frame == c.capture.num_frames - 1 && !fs::exists(path)) return {};
-  const cv::Mat flow = ReadFlo(path);
+  cv::Mat flow = ReadFlo(path);
   valid->release();
   if (c.HasGt("flow_valid")) {
     *valid = ReadMaskImage(c.root / layout::GtFlowValid(view, frame));

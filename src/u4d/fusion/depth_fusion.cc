@@ -138,7 +138,7 @@ std::vector<OrientedPoint> ObjectPoints(const std::vector<Camera>& cameras,
     const int s = options.pixel_step;
     for (int y = 0; y < pts.rows; y += s)
       for (int x = 0; x < pts.cols; x += s) {
-        const cv::Vec3d pv = pts.at<cv::Vec3d>(y, x);
+        const cv::Vec3d& pv = pts.at<cv::Vec3d>(y, x);
         if (std::isnan(pv[0])) continue;
         Eigen::Vector3d tx, ty;
         if (!Tangent(pts, depths[v], x, y, 1, 0, options.max_depth_jump, &tx) ||

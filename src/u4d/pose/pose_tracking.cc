@@ -146,6 +146,7 @@ std::vector<Pose3d> UpdatePoseTracks(PoseTrackerState& state, const std::vector<
     state.tracks.push_back(tr);
   }
   std::vector<Pose3d> out;
+  out.reserve(np);
   for (int p = 0; p < np; ++p)
     out.push_back(Output(state.tracks[track_of[p]], options.max_missed_frames));
   // Drop tracks unseen for too long (after producing output: indices above stay valid).
