@@ -64,10 +64,10 @@
 #include "u4d/io/poses.h"
 #include "u4d/joint/frame_setup.h"
 #include "u4d/joint/joint_view.h"
-#include "u4d/joint/truth_inputs.h"
 #include "u4d/pipeline/initial_objects.h"
 #include "u4d/pipeline/run_flags.h"
 #include "u4d/synth/generate.h"
+#include "u4d/testing/truth_inputs.h"
 #include "u4d/util/check.h"
 #include "u4d/util/timer.h"
 

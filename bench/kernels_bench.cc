@@ -43,10 +43,10 @@
 #include "u4d/joint/flow_cost.h"
 #include "u4d/joint/label_costs.h"
 #include "u4d/joint/motion_labels.h"
-#include "u4d/joint/truth_inputs.h"
 #include "u4d/mrf/expansion.h"
 #include "u4d/mrf/max_flow.h"
 #include "u4d/synth/generate.h"
+#include "u4d/testing/truth_inputs.h"
 
 namespace u4d {
 namespace {

@@ -1,4 +1,4 @@
-#include "u4d/joint/truth_inputs.h"
+#include "u4d/testing/truth_inputs.h"
 
 #include <algorithm>
 #include <random>
