@@ -1,5 +1,5 @@
 // E_f cost volume (joint/flow_cost.h) vs the dense flow baselines
-// (eval/flow_baselines.h) on a generated handshake capture, 6 views at
+// (baselines/flow_baselines.h) on a generated handshake capture, 6 views at
 // 480x270, script frames 128-130 (people walking apart). Plain executable:
 //   build/bench/flow_cost_bench
 // Prints, for window = 1..4: labels, cost-volume time (ms, TBB over labels,
@@ -11,7 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "bench_worlds.h"
-#include "u4d/eval/flow_baselines.h"
+#include "u4d/baselines/flow_baselines.h"
 #include "u4d/io/capture.h"
 #include "u4d/io/image_io.h"
 #include "u4d/io/layout.h"

@@ -50,13 +50,13 @@
 #include <opencv2/imgproc.hpp>
 
 #include "bench_worlds.h"
+#include "u4d/baselines/flow_baselines.h"
+#include "u4d/baselines/grabcut_baseline.h"
+#include "u4d/baselines/stereo_baseline.h"
 #include "u4d/eval/dense_metrics.h"
-#include "u4d/eval/flow_baselines.h"
 #include "u4d/eval/fused_reconstruction.h"
-#include "u4d/eval/grabcut_baseline.h"
 #include "u4d/eval/mesh_metrics.h"
 #include "u4d/eval/segmentation_metrics.h"
-#include "u4d/eval/stereo_baseline.h"
 #include "u4d/io/capture.h"
 #include "u4d/io/image_io.h"
 #include "u4d/io/instance_mask.h"
@@ -412,7 +412,7 @@ int main(int argc, char** argv) try {
       ++stats["wta"].runs;
       add_depth("wta", wta);
       // OpenCV SGBM on rectified pairs with the 2 nearest views, median-fused
-      // (eval/stereo_baseline.h), searched over the same depth range.
+      // (baselines/stereo_baseline.h), searched over the same depth range.
       timer.Restart();
       const cv::Mat sgbm = eval::SgbmFusedDepth(in.cameras_t, in.images_t, v, near, far);
       stats["sgbm"].seconds += timer.Seconds();

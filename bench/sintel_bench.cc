@@ -5,7 +5,7 @@
 // gt/occlusions/frame_0002.png, nonzero = invalid / occluded).
 //
 // Methods (all from frame 0002 to 0003):
-//   deepflow, dis, farneback   eval/flow_baselines.h (OpenCV)
+//   deepflow, dis, farneback   baselines/flow_baselines.h (OpenCV)
 //   ours-fusion                the joint method's flow fusion stage
 //                              (joint_view.h FlowFusionOptions) on a single
 //                              view: fusion moves (mrf::FusionMove) of the
@@ -48,8 +48,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "u4d/baselines/flow_baselines.h"
 #include "u4d/eval/dense_metrics.h"
-#include "u4d/eval/flow_baselines.h"
 #include "u4d/io/capture.h"
 #include "u4d/io/image_io.h"
 #include "u4d/joint/flow_cost.h"

@@ -594,7 +594,7 @@ LocalStereo, SMVS and SCSR. Here: per-view depth on the GT person pixels
 against the GT depth, the winner-take-all plane sweep on the same cost volume
 (the baseline) vs the joint optimisation and its ablations (`joint_bench`).
 The `sgbm` row is OpenCV SGBM on rectified pairs with the 2 nearest views
-(at most 60 degrees apart), median-fused (eval/stereo_baseline.h); on a 4-view
+(at most 60 degrees apart), median-fused (baselines/stereo_baseline.h); on a 4-view
 ring the neighbours are 90 degrees apart, so it has no pair and reports
 nothing (docs/depth.md has it on 8 views).
 

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "u4d/baselines/flow_baselines.h"
 #include "u4d/eval/evaluate.h"
-#include "u4d/eval/flow_baselines.h"
 
 namespace u4d::eval {
 

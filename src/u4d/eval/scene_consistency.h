@@ -39,7 +39,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "u4d/eval/flow_baselines.h"
+#include "u4d/baselines/flow_baselines.h"
 #include "u4d/eval/silhouette.h"
 #include "u4d/io/capture.h"
 #include "u4d/util/file.h"

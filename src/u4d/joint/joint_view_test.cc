@@ -5,9 +5,9 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include "u4d/baselines/flow_baselines.h"
+#include "u4d/baselines/grabcut_baseline.h"
 #include "u4d/eval/dense_metrics.h"
-#include "u4d/eval/flow_baselines.h"
-#include "u4d/eval/grabcut_baseline.h"
 #include "u4d/eval/segmentation_metrics.h"
 #include "u4d/io/image_io.h"
 #include "u4d/io/instance_mask.h"

@@ -1,4 +1,4 @@
-#include "u4d/eval/grabcut_baseline.h"
+#include "u4d/baselines/grabcut_baseline.h"
 
 #include <cmath>
 #include <cstdint>

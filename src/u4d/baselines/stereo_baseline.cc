@@ -1,4 +1,4 @@
-#include "u4d/eval/stereo_baseline.h"
+#include "u4d/baselines/stereo_baseline.h"
 
 #include <algorithm>
 #include <cmath>

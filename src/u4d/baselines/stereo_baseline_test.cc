@@ -5,8 +5,8 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include "u4d/baselines/stereo_baseline.h"
 #include "u4d/eval/dense_metrics.h"
-#include "u4d/eval/stereo_baseline.h"
 #include "u4d/io/capture.h"
 #include "u4d/io/image_io.h"
 #include "u4d/io/layout.h"

@@ -1,4 +1,4 @@
-#include "u4d/eval/flow_baselines.h"
+#include "u4d/baselines/flow_baselines.h"
 
 #include <opencv2/imgproc.hpp>
 #include <opencv2/optflow.hpp>
