@@ -1,5 +1,5 @@
 // Shelf multi-person 3D pose: per-actor, per-limb PCP (alpha 0.5) of the
-// pose module's pipeline (pose/shelf.h) against gt.txt, the literature's
+// pose module's pipeline (testing/shelf.h) against gt.txt, the literature's
 // protocol (each GT actor is matched to its nearest predicted person).
 // Usage: shelf_pose_bench [shelf_dir]   (default /work/shared/data/shelf_pose)
 #include <cstdio>
@@ -10,7 +10,7 @@
 
 #include "u4d/eval/pose_metrics.h"
 #include "u4d/io/import_fourda.h"
-#include "u4d/pose/shelf.h"
+#include "u4d/testing/shelf.h"
 #include "u4d/util/check.h"
 #include "u4d/util/timer.h"
 

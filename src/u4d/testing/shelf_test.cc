@@ -11,7 +11,7 @@
 
 #include "u4d/eval/pose_metrics.h"
 #include "u4d/io/import_fourda.h"
-#include "u4d/pose/shelf.h"
+#include "u4d/testing/shelf.h"
 #include "u4d/util/check.h"
 #include "u4d/util/data_dir.h"
 #include "u4d/util/testing.h"

@@ -1,4 +1,4 @@
-#include "u4d/pose/shelf.h"
+#include "u4d/testing/shelf.h"
 
 #include <algorithm>
 
