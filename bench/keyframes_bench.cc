@@ -19,9 +19,9 @@
 
 #include <fmt/format.h>
 
+#include "u4d/eval/keyframe_eval.h"
 #include "u4d/io/capture.h"
 #include "u4d/io/layout.h"
-#include "u4d/keyframes/keyframe_eval.h"
 #include "u4d/keyframes/keyframe_similarity.h"
 #include "u4d/synth/generate.h"
 #include "u4d/util/timer.h"

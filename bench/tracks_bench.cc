@@ -8,6 +8,7 @@
 // time per frame pair), ms_detect_per_frame (SIFT per view-frame).
 #include <benchmark/benchmark.h>
 
+#include "u4d/eval/track_metrics.h"
 #include "u4d/features/temporal_tracks.h"
 #include "u4d/io/layout.h"
 #include "u4d/synth/generate.h"

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "u4d/eval/track_metrics.h"
 #include "u4d/io/capture.h"
 #include "u4d/io/image_io.h"
 #include "u4d/io/layout.h"

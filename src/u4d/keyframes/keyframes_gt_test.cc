@@ -11,8 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include "u4d/eval/keyframe_eval.h"
 #include "u4d/io/layout.h"
-#include "u4d/keyframes/keyframe_eval.h"
 #include "u4d/keyframes/keyframe_similarity.h"
 #include "u4d/synth/generate.h"
 #include "u4d/util/stats.h"

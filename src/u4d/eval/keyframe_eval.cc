@@ -1,4 +1,4 @@
-#include "u4d/keyframes/keyframe_eval.h"
+#include "u4d/eval/keyframe_eval.h"
 
 #include <algorithm>
 #include <cmath>
