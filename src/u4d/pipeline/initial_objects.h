@@ -13,7 +13,8 @@
 // instances across views into objects, and features/object_regions.h gives
 // each object's depth range per view (sparse points, else the visual hull).
 // Wide-baseline rigs give few feature matches, so silhouette points join the
-// feature points: surface points of the masks' visual hull (SilhouettePoints),
+// feature points: surface points of the masks' visual hull
+// (features/silhouette_points.h SilhouettePoints),
 // each observed in every view it projects into. An instance left out of the
 // association (a fragment of a person split in one view) joins the object
 // that most of its silhouette points' other observations belong to. A view
@@ -71,25 +72,6 @@ struct ObjectLinker {
   std::map<int, Track> tracks;  // object id -> track
   int next_id = 1;
 };
-
-struct SilhouettePointOptions {
-  int max_side = 160;         // masks are tested at this longest side (pixels)
-  int pixels_per_view = 400;  // rays cast per view (a regular sample of its foreground)
-  int depth_samples = 192;    // depths per ray, even in inverse depth
-  double min_depth_m = 0.3;   // nearest depth tested
-  int min_views_seeing = 2;   // other views that must see a point (inside their image)
-  void Check() const;
-};
-
-// Points on the visual hull of the union of the masks: for sampled
-// foreground pixels of every view, the first depth along the ray whose point
-// projects into the foreground of every other view that sees it (at least
-// min_views_seeing); observations are the views it projects into the
-// foreground of, with their pixels (full resolution). The farthest depth is
-// 1.5 x the largest distance between two cameras (at least 5 m).
-std::vector<SparsePoint> SilhouettePoints(const std::vector<Camera>& cameras,
-                                          const std::vector<cv::Mat>& masks,
-                                          const SilhouettePointOptions& options = {});
 
 // Without poses: detector masks (ids local to each image; an empty Mat = no
 // mask file, nothing detected) named by the people of the frame's voxel hull
