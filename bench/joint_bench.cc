@@ -67,6 +67,7 @@
 #include "u4d/pipeline/initial_objects.h"
 #include "u4d/pipeline/run_flags.h"
 #include "u4d/synth/generate.h"
+#include "u4d/testing/capture_inputs.h"
 #include "u4d/testing/truth_inputs.h"
 #include "u4d/util/check.h"
 #include "u4d/util/timer.h"

@@ -24,6 +24,7 @@
 #include "u4d/io/layout.h"
 #include "u4d/keyframes/keyframe_similarity.h"
 #include "u4d/synth/generate.h"
+#include "u4d/testing/capture_inputs.h"
 #include "u4d/util/timer.h"
 
 namespace u4d {

@@ -12,6 +12,7 @@
 #include "u4d/features/temporal_tracks.h"
 #include "u4d/io/layout.h"
 #include "u4d/synth/generate.h"
+#include "u4d/testing/capture_inputs.h"
 
 namespace u4d {
 namespace {

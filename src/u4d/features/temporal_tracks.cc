@@ -73,13 +73,6 @@ int MajorityInstance(const std::vector<int>& ids) {
   return best;
 }
 
-cv::Mat ReadMaskIdsIfPresent(const Capture& capture, int view, int frame) {
-  const std::string& name = capture.views[view].name;
-  const fs::path png = capture.root / layout::Mask(name, frame);
-  if (!fs::exists(png)) return {};
-  return ReadInstanceMask(png, capture.root / layout::MaskInfo(name, frame)).ids;
-}
-
 }  // namespace
 
 FrameFeatures DetectFrameFeatures(const cv::Mat& image, const cv::Mat& mask_ids,
@@ -232,41 +225,6 @@ std::vector<TemporalTrack> JointTracks(const Capture& capture, int view, int fir
     tracks.push_back(std::move(t));
   }
   return tracks;
-}
-
-std::vector<TemporalTrack> ComputeTemporalTracks(const Capture& capture,
-                                                 const std::vector<std::vector<Pose3d>>& poses,
-                                                 const TemporalTrackOptions& options,
-                                                 int first_frame, int num_frames,
-                                                 TrackStats* stats) {
-  options.Check();
-  if (num_frames < 0) num_frames = capture.num_frames - first_frame;
-  U4D_CHECK(first_frame >= 0 && num_frames >= 1 && first_frame + num_frames <= capture.num_frames,
-            "ComputeTemporalTracks: frames [{}, {}) outside the capture's [0, {})", first_frame,
-            first_frame + num_frames, capture.num_frames);
-  U4D_CHECK(poses.empty() || static_cast<int>(poses.size()) == num_frames,
-            "ComputeTemporalTracks: {} pose frames given for {} frames", poses.size(), num_frames);
-  FrameReader reader(capture);
-  std::vector<TemporalTrack> all;
-  for (int v = 0; v < capture.NumViews(); ++v) {
-    std::vector<FrameFeatures> frames;
-    std::vector<cv::Mat> masks;
-    Timer timer;
-    for (int k = 0; k < num_frames; ++k) {
-      masks.push_back(ReadMaskIdsIfPresent(capture, v, first_frame + k));
-      frames.push_back(DetectFrameFeatures(reader.Read(v, first_frame + k), masks.back(), options));
-    }
-    if (stats) stats->seconds_detect += timer.Seconds();
-    for (TemporalTrack& t : LinkFeatureTracks(v, first_frame, frames, options, stats)) {
-      all.push_back(std::move(t));
-    }
-    if (options.add_joint_tracks && !poses.empty()) {
-      for (TemporalTrack& t : JointTracks(capture, v, first_frame, poses, masks, options)) {
-        all.push_back(std::move(t));
-      }
-    }
-  }
-  return all;
 }
 
 void WriteTemporalTracks(const fs::path& path, const std::string& view_name, int view,

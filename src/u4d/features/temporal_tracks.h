@@ -109,17 +109,6 @@ std::vector<TemporalTrack> JointTracks(const Capture& capture, int view, int fir
                                        const std::vector<cv::Mat>& mask_ids,
                                        const TemporalTrackOptions& options);
 
-// Everything for frames [first_frame, first_frame + num_frames) of every view:
-// images through FrameReader, masks from masks/<view>/<frame>.png (+ .json)
-// when present (a missing file = no mask for that frame), 3D poses from
-// `poses` (indexed by k = frame - first_frame; empty = none). num_frames < 0
-// means to the end. Throws on a bad range.
-std::vector<TemporalTrack> ComputeTemporalTracks(const Capture& capture,
-                                                 const std::vector<std::vector<Pose3d>>& poses,
-                                                 const TemporalTrackOptions& options,
-                                                 int first_frame = 0, int num_frames = -1,
-                                                 TrackStats* stats = nullptr);
-
 // tracks/<view>.json of a 4D scene (io/layout.h SceneTracks):
 //   {"format": "u4d-tracks", "view": "cam00",
 //    "tracks": [{"id": 0, "instance": 1, "from_joint": false, "joint": -1, "person_id": -1,

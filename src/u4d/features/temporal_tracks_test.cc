@@ -14,6 +14,7 @@
 #include "u4d/io/image_io.h"
 #include "u4d/io/layout.h"
 #include "u4d/synth/generate.h"
+#include "u4d/testing/capture_inputs.h"
 
 namespace u4d {
 namespace {

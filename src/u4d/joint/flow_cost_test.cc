@@ -17,6 +17,7 @@
 #include "u4d/io/poses.h"
 #include "u4d/joint/motion_labels.h"
 #include "u4d/synth/generate.h"
+#include "u4d/testing/capture_inputs.h"
 #include "u4d/util/testing.h"
 
 namespace u4d {

@@ -248,44 +248,4 @@ std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
   return inputs;
 }
 
-JointFrameData ReadJointFrameData(const Capture& capture, FrameReader* reader, int frame,
-                                  const std::vector<std::vector<Pose3d>>& poses_by_frame) {
-  U4D_CHECK(frame >= 0 && frame < capture.num_frames, "ReadJointFrameData: frame {} out of [0, {})",
-            frame, capture.num_frames);
-  const int nv = capture.NumViews();
-  auto read_masks = [&](int f) {
-    std::vector<cv::Mat> masks(nv);
-    for (int v = 0; v < nv; ++v) {
-      const fs::path png = capture.root / layout::Mask(capture.views[v].name, f);
-      if (fs::exists(png))
-        masks[v] =
-            ReadInstanceMask(png, capture.root / layout::MaskInfo(capture.views[v].name, f)).ids;
-    }
-    return masks;
-  };
-  auto read_images = [&](int f) {
-    std::vector<cv::Mat> images(nv);
-    for (int v = 0; v < nv; ++v) images[v] = reader->Read(v, f);
-    return images;
-  };
-  JointFrameData data;
-  for (int v = 0; v < nv; ++v) data.cameras_t.push_back(capture.views[v].CameraAt(frame));
-  data.images_t = read_images(frame);
-  data.masks_t = read_masks(frame);
-  if (frame > 0) {
-    data.images_prev = read_images(frame - 1);
-    data.masks_prev = read_masks(frame - 1);
-  }
-  if (frame + 1 < capture.num_frames) {
-    for (int v = 0; v < nv; ++v) data.cameras_t1.push_back(capture.views[v].CameraAt(frame + 1));
-    data.images_t1 = read_images(frame + 1);
-    data.masks_t1 = read_masks(frame + 1);
-  }
-  if (frame < static_cast<int>(poses_by_frame.size())) data.poses_t = poses_by_frame[frame];
-  if (frame + 1 < static_cast<int>(poses_by_frame.size()))
-    data.poses_t1 = poses_by_frame[frame + 1];
-  data.sparse.resize(nv);
-  return data;
-}
-
 }  // namespace u4d

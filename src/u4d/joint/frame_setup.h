@@ -83,12 +83,4 @@ cv::Mat AssignInstancesToPeople(const Camera& camera, const cv::Mat& mask_ids,
 std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
                                                 const FrameSetupOptions& options, double* scale);
 
-// Reads frame `frame` of a capture (with t−1 and t+1 when they exist): images,
-// the initial masks in masks/ (views without a mask file get none) and the
-// given poses of t and t+1 (`poses_by_frame[f]`, may be empty). Sparse
-// correspondences are left empty for the caller. Throws u4d::Error naming the
-// file on a missing or corrupt frame.
-JointFrameData ReadJointFrameData(const Capture& capture, FrameReader* reader, int frame,
-                                  const std::vector<std::vector<Pose3d>>& poses_by_frame);
-
 }  // namespace u4d

@@ -15,6 +15,7 @@
 #include "u4d/io/poses.h"
 #include "u4d/joint/frame_setup.h"
 #include "u4d/synth/generate.h"
+#include "u4d/testing/capture_inputs.h"
 #include "u4d/testing/truth_inputs.h"
 #include "u4d/util/check.h"
 #include "u4d/util/data_dir.h"

@@ -15,6 +15,7 @@
 #include "u4d/joint/frame_setup.h"
 #include "u4d/joint/joint_view.h"
 #include "u4d/synth/generate.h"
+#include "u4d/testing/capture_inputs.h"
 #include "u4d/testing/truth_inputs.h"
 
 namespace u4d {

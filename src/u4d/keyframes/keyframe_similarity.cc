@@ -550,31 +550,4 @@ KeyframeSelection ReadKeyframes(const fs::path& path) {
   return s;
 }
 
-KeyframeObservations ReadKeyframeObservations(const Capture& capture, bool ground_truth,
-                                              std::vector<TemporalTrack> tracks) {
-  KeyframeObservations obs;
-  obs.num_frames = capture.num_frames;
-  obs.masks.resize(capture.NumViews());
-  for (int v = 0; v < capture.NumViews(); ++v) {
-    const std::string& name = capture.views[v].name;
-    for (int f = 0; f < capture.num_frames; ++f) {
-      const fs::path png =
-          capture.root / (ground_truth ? layout::GtInstances(name, f) : layout::Mask(name, f));
-      const fs::path info = capture.root / (ground_truth ? layout::GtInstancesInfo(name, f)
-                                                         : layout::MaskInfo(name, f));
-      obs.masks[v].push_back(fs::exists(png) ? ReadInstanceMask(png, info) : InstanceMask{});
-    }
-  }
-  bool any = false;
-  std::vector<std::vector<Pose3d>> poses(capture.num_frames);
-  for (int f = 0; f < capture.num_frames; ++f) {
-    const fs::path p = capture.root / (ground_truth ? layout::GtJoints3d(f) : layout::Poses3d(f));
-    if (fs::exists(p)) poses[f] = ReadPoses3d(p), any = true;
-  }
-  if (any) obs.poses = std::move(poses);
-  obs.tracks = std::move(tracks);
-  obs.Check();
-  return obs;
-}
-
 }  // namespace u4d

@@ -155,10 +155,4 @@ KeyframeSelection SelectKeyframes(const Eigen::MatrixXd& similarity, double thre
 void WriteKeyframes(const fs::path& path, const KeyframeSelection& selection);
 KeyframeSelection ReadKeyframes(const fs::path& path);
 
-// Observations of a capture: masks from gt/instances (ground_truth) or masks/
-// (a missing file = nothing detected), poses from gt/joints3d or poses3d/ (a
-// missing file = no poses that frame), and the given tracks.
-KeyframeObservations ReadKeyframeObservations(const Capture& capture, bool ground_truth,
-                                              std::vector<TemporalTrack> tracks);
-
 }  // namespace u4d

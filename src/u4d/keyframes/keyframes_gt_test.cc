@@ -15,6 +15,7 @@
 #include "u4d/io/layout.h"
 #include "u4d/keyframes/keyframe_similarity.h"
 #include "u4d/synth/generate.h"
+#include "u4d/testing/capture_inputs.h"
 #include "u4d/util/stats.h"
 
 namespace u4d {
