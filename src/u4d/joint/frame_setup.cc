@@ -248,4 +248,19 @@ std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
   return inputs;
 }
 
+cv::Mat ViewBackgroundFlow(const JointFrameData& data, int v, double scale,
+                           const BackgroundFlowOptions& options) {
+  const Camera cam_t = ScaledCamera(data.cameras_t[v], scale);
+  if (data.cameras_t1.empty() || !options.enabled)
+    return cv::Mat::zeros(cam_t.height, cam_t.width, CV_32FC2);
+  const Camera cam_t1 = ScaledCamera(data.cameras_t1[v], scale);
+  if (!CameraMoved(cam_t, cam_t1)) return cv::Mat::zeros(cam_t.height, cam_t.width, CV_32FC2);
+  auto grey = [&](const cv::Mat& bgr) {
+    cv::Mat g;
+    cv::cvtColor(Resize(bgr, cam_t, cv::INTER_AREA), g, cv::COLOR_BGR2GRAY);
+    return g;
+  };
+  return BackgroundFlow(cam_t, cam_t1, grey(data.images_t[v]), grey(data.images_t1[v]), options);
+}
+
 }  // namespace u4d

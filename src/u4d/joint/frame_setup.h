@@ -83,4 +83,10 @@ cv::Mat AssignInstancesToPeople(const Camera& camera, const cv::Mat& mask_ids,
 std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
                                                 const FrameSetupOptions& options, double* scale);
 
+// The flow of view `v` when it has no object to solve: the camera's rigid
+// flow (background_flow.h) at the working resolution `scale`, 0 on a still
+// camera, on the last frame (no cameras_t1) or with the options disabled.
+cv::Mat ViewBackgroundFlow(const JointFrameData& data, int v, double scale,
+                           const BackgroundFlowOptions& options);
+
 }  // namespace u4d

@@ -26,7 +26,6 @@
 #include "u4d/io/layout.h"
 #include "u4d/io/scene_index.h"
 #include "u4d/io/visualize.h"
-#include "u4d/joint/background_flow.h"
 #include "u4d/joint/parameters.h"
 #include "u4d/pipeline/initial_objects.h"
 #include "u4d/pipeline/scene_outputs.h"
@@ -344,24 +343,6 @@ struct SolvedFrame {
   std::vector<cv::Mat> full_images;  // camera size, BGR
   std::vector<cv::Mat> labels, depth, flow;
 };
-
-// The flow of a view with no object: the camera's rigid flow at the working
-// resolution (0 on a still camera and on the last frame).
-cv::Mat ViewBackgroundFlow(const JointFrameData& data, int v, double scale,
-                           const BackgroundFlowOptions& options) {
-  const Camera cam_t = ScaledCamera(data.cameras_t[v], scale);
-  if (data.cameras_t1.empty() || !options.enabled)
-    return cv::Mat::zeros(cam_t.height, cam_t.width, CV_32FC2);
-  const Camera cam_t1 = ScaledCamera(data.cameras_t1[v], scale);
-  if (!CameraMoved(cam_t, cam_t1)) return cv::Mat::zeros(cam_t.height, cam_t.width, CV_32FC2);
-  auto grey = [&](const cv::Mat& bgr) {
-    cv::Mat small, g;
-    cv::resize(bgr, small, {cam_t.width, cam_t.height}, 0, 0, cv::INTER_AREA);
-    cv::cvtColor(small, g, cv::COLOR_BGR2GRAY);
-    return g;
-  };
-  return BackgroundFlow(cam_t, cam_t1, grey(data.images_t[v]), grey(data.images_t1[v]), options);
-}
 
 SolvedFrame SolveFrame(Context& c, int f, const std::vector<std::vector<Pose3d>>& poses,
                        const std::vector<TemporalTrack>& tracks, const JointViewOptions& joint) {
