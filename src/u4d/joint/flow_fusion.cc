@@ -100,7 +100,8 @@ void FuseFlow(const JointEnergy& energy, const FlowCostInput& flow_input, const 
   cache.Fill(energy, *labelling, PairCache::Part::kLabelDepth);
   const MotionLabelGrid index(energy.motion.motions);
   // Proposals that do not depend on the state.
-  const std::vector<cv::Mat> external = FlowFusionProposals(grey_t, grey_t1, options.fusion);
+  const std::vector<cv::Mat> external =
+      FlowFusionProposals(grey_t, grey_t1, options.fusion, flow_input.dense_matches);
   clock->End("fusion proposals");
   for (int round = 0; round < options.fusion.rounds; ++round) {
     if (round == 0 && options.fusion.refined) {
@@ -136,7 +137,8 @@ cv::Mat FineDisFlow(const cv::Mat& grey_t, const cv::Mat& grey_t1) {
 }
 
 std::vector<cv::Mat> FlowFusionProposals(const cv::Mat& grey_t, const cv::Mat& grey_t1,
-                                         const FlowFusionOptions& options) {
+                                         const FlowFusionOptions& options,
+                                         const cv::Mat& fine_dis) {
   U4D_CHECK(grey_t.type() == CV_8UC1 && grey_t1.type() == CV_8UC1 &&
                 grey_t.size() == grey_t1.size() && !grey_t.empty(),
             "FlowFusionProposals: need two 8-bit grey images of one size (got {}x{} type {} and "
@@ -148,7 +150,11 @@ std::vector<cv::Mat> FlowFusionProposals(const cv::Mat& grey_t, const cv::Mat& g
     cv::optflow::createOptFlow_DeepFlow()->calc(grey_t, grey_t1, f);
     proposals.push_back(f);
   }
-  if (options.dis_fine) proposals.push_back(FineDisFlow(grey_t, grey_t1));
+  if (options.dis_fine) {
+    U4D_CHECK(fine_dis.empty() || (fine_dis.type() == CV_32FC2 && fine_dis.size() == grey_t.size()),
+              "FlowFusionProposals: the given fine DIS flow must be CV_32FC2 of the images' size");
+    proposals.push_back(fine_dis.empty() ? FineDisFlow(grey_t, grey_t1) : fine_dis);
+  }
   if (options.dis) {
     cv::Mat f;
     cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM)->calc(grey_t, grey_t1, f);
