@@ -87,6 +87,9 @@ void CheckJointViewInput(const JointViewInput& in) {
   U4D_CHECK(in.previous_depth.empty() || (in.previous_depth.type() == CV_32FC1 &&
                                           in.previous_depth.size() == in.initial_labels.size()),
             "SolveJointView: previous depth must be CV_32F of the view's size");
+  U4D_CHECK(in.hull_support.empty() || (in.hull_support.type() == CV_16UC1 &&
+                                        in.hull_support.size() == in.initial_labels.size()),
+            "SolveJointView: the hull support must be CV_16U of the view's size");
 }
 
 cv::Mat GrowRegion(const cv::Mat& mask, int margin) {
@@ -159,6 +162,8 @@ LabelTermVolumes SetUpLabelUnaries(const JointViewInput& in, const JointViewOpti
   volumes.semantic = SemanticCosts(
       options.semantic_temporal ? SemanticLabelMaps(in) : std::vector{in.initial_labels},
       in.num_labels, options.labels);
+  if (!in.hull_support.empty())
+    RelaxSemanticCosts(in.initial_labels, in.hull_support, &volumes.semantic);
   energy->use_pose = options.terms.pose && !in.people.empty();
   const double pose_norm = options.weights.pose_2d + options.weights.pose_3d;
   if (energy->use_pose && pose_norm > 0) {

@@ -21,6 +21,23 @@ cv::Mat Resize(const cv::Mat& image, const Camera& working, int interpolation) {
   return out;
 }
 
+// Each view's objects' regions grow by their leave-one-out visual hull from
+// the other views' initial labels (hull_support.h); the map goes to E_sem.
+void AddHullSupport(const std::vector<Camera>& cameras, const HullSupportOptions& options,
+                    std::vector<JointViewInput>* inputs) {
+  std::vector<cv::Mat> labels;
+  for (const JointViewInput& in : *inputs) labels.push_back(in.initial_labels);
+  for (size_t v = 0; v < inputs->size(); ++v) {
+    JointViewInput& in = (*inputs)[v];
+    std::vector<HullObject> objects;
+    for (const JointObject& obj : in.objects)
+      objects.push_back({obj.id, obj.depth_near, obj.depth_far});
+    if (objects.empty()) continue;
+    in.hull_support = HullSupport(cameras, labels, static_cast<int>(v), objects, options);
+    for (JointObject& obj : in.objects) obj.region |= in.hull_support == obj.id;
+  }
+}
+
 }  // namespace
 
 void FrameSetupOptions::Check() const {
@@ -29,6 +46,7 @@ void FrameSetupOptions::Check() const {
   U4D_CHECK(depth_margin_m > 0, "FrameSetupOptions.depth_margin_m must be > 0");
   U4D_CHECK(min_joints_inside >= 1, "FrameSetupOptions.min_joints_inside must be >= 1");
   pose.Check();
+  hull.Check();
 }
 
 cv::Mat AssignInstancesToPeople(const Camera& camera, const cv::Mat& mask_ids,
@@ -245,6 +263,7 @@ std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
       in.objects.push_back(obj);
     }
   });
+  if (options.hull.enabled) AddHullSupport(cams_t, options.hull, &inputs);
   return inputs;
 }
 

@@ -18,6 +18,10 @@
 // must then hold object ids, with each view's depth ranges in
 // `object_depth_ranges` (the pipeline's cross-view association,
 // features/object_regions.h); the pose term has nothing to act on.
+//
+// With or without poses, each object's region in a view then also holds the
+// pixels its visual hull from the other views covers (hull_support.h), and
+// JointViewInput::hull_support records them for E_sem.
 #pragma once
 
 #include <map>
@@ -28,6 +32,7 @@
 
 #include "u4d/io/capture.h"
 #include "u4d/io/frame_reader.h"
+#include "u4d/joint/hull_support.h"
 #include "u4d/joint/joint_view.h"
 
 namespace u4d {
@@ -58,6 +63,9 @@ struct FrameSetupOptions {
   bool split_merged = true;
   double min_joint_confidence = 0.1;
   PosePriorOptions pose;  // capsule model used for the regions and the split
+  // Each object's region also holds its leave-one-out visual hull from the
+  // other views (hull_support.h): parts one view's mask missed.
+  HullSupportOptions hull;
   void Check() const;
 };
 

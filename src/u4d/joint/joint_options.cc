@@ -12,8 +12,20 @@ void DeclareOptions(OptionRegistry& r, FrameSetupOptions* o) {
         "it goes whole to one person)");
   r.Add("min_joint_confidence", &o->min_joint_confidence,
         "joints below this confidence are missing");
+  r.Nested("hull", &o->hull);
   // `pose` (the capsule model) is not declared: it is JointViewOptions::pose,
   // which callers copy in (the pipeline does), so the capsules are one setting.
+}
+
+void DeclareOptions(OptionRegistry& r, HullSupportOptions* o) {
+  r.Add("enabled", &o->enabled,
+        "grow each object's region by its leave-one-out visual hull from the other views, and "
+        "let E_sem not prefer the background there (parts the view's mask missed)");
+  r.Add("min_views", &o->min_views, "other views that must put a hull point on the object");
+  r.Add("mask_tolerance_px", &o->mask_tolerance_px,
+        "the other views' object labels are dilated by this (working pixels)");
+  r.Add("depth_samples", &o->depth_samples, "depths tested per ray over the object's range");
+  r.Add("max_side", &o->max_side, "rays are cast at this longest side (the map is upsampled)");
 }
 
 void DeclareOptions(OptionRegistry& r, PosePriorOptions* o) {

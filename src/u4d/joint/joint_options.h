@@ -8,6 +8,7 @@
 #include "u4d/joint/depth_cost.h"
 #include "u4d/joint/flow_cost.h"
 #include "u4d/joint/frame_setup.h"
+#include "u4d/joint/hull_support.h"
 #include "u4d/joint/joint_view.h"
 #include "u4d/joint/label_costs.h"
 #include "u4d/joint/motion_labels.h"
@@ -18,6 +19,7 @@
 namespace u4d {
 
 void DeclareOptions(OptionRegistry& r, FrameSetupOptions* o);
+void DeclareOptions(OptionRegistry& r, HullSupportOptions* o);
 void DeclareOptions(OptionRegistry& r, PosePriorOptions* o);
 void DeclareOptions(OptionRegistry& r, FlowFusionOptions* o);
 void DeclareOptions(OptionRegistry& r, BackgroundFlowOptions* o);

@@ -196,6 +196,10 @@ struct JointViewInput {
   std::vector<PersonPose> people;                     // 3D poses (may be empty)
   std::vector<SparseMotion> sparse;                   // sparse correspondences t -> t+1
   cv::Mat previous_depth;  // CV_32F depth of t−1 carried to t (0 = none); empty = none
+  // CV_16U: the object the other views' visual hull puts at a pixel the
+  // initial labels call background (hull_support.h), 0 = none; empty = none.
+  // E_sem there does not prefer the background over that object.
+  cv::Mat hull_support;
 };
 
 // Energy after each block, with its name ("init", "labels", "depth", "motion", "fusion").

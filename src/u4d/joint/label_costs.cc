@@ -392,6 +392,22 @@ LabelCostVolume SemanticCosts(const std::vector<cv::Mat>& label_maps, int num_la
   return volume;
 }
 
+void RelaxSemanticCosts(const cv::Mat& initial_labels, const cv::Mat& support,
+                        LabelCostVolume* semantic) {
+  const int w = semantic->width, h = semantic->height;
+  U4D_CHECK(initial_labels.type() == CV_16UC1 && support.type() == CV_16UC1 &&
+                initial_labels.cols == w && initial_labels.rows == h &&
+                support.size() == initial_labels.size(),
+            "RelaxSemanticCosts: labels and support must be CV_16U {}x{}", w, h);
+  const size_t n = static_cast<size_t>(w) * h;
+  for (size_t p = 0; p < n; ++p) {
+    const int o = support.ptr<uint16_t>()[p];
+    if (o == 0 || o >= semantic->num_labels || initial_labels.ptr<uint16_t>()[p] != 0) continue;
+    float& cost = semantic->cost[o * n + p];
+    cost = std::min(cost, semantic->cost[p]);
+  }
+}
+
 namespace {
 
 template <typename Distance>

@@ -103,6 +103,14 @@ LabelCostVolume SemanticCosts(const cv::Mat& initial_labels, int num_labels,
 LabelCostVolume SemanticCosts(const std::vector<cv::Mat>& label_maps, int num_labels,
                               const LabelCostOptions& options = {});
 
+// E_sem where the other views contradict the detector's background: at each
+// pixel whose `initial_labels` is 0 and whose `support` (CV_16U, hull_support.h)
+// names an object o in [1, num_labels), o's cost is lowered to the
+// background's, so E_sem prefers neither and E_a, E_c, E_d decide. Throws on
+// a size or type mismatch.
+void RelaxSemanticCosts(const cv::Mat& initial_labels, const cv::Mat& support,
+                        LabelCostVolume* semantic);
+
 // Colour-contrast weight of each neighbour pair for E_c:
 // exp(−||I_p − I_q||² / (2β)) / |p − q|, β the mean of ||I_p − I_q||² over
 // the pairs (as GrabCut). `pairs` as mrf::NeighbourPairs.

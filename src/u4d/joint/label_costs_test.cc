@@ -148,5 +148,31 @@ TEST(AppearanceCostsTest, FavoursTheTrueLabelAndEvaluatesOnlyWhereAsked) {
   EXPECT_THROW(AppearanceCosts(image, training, 2, {}, {}, cv::Mat::zeros(h, w, CV_32F)), Error);
 }
 
+TEST(RelaxSemanticCostsTest, TheOtherViewsObjectCostsNoMoreThanTheBackground) {
+  // A 20x10 image: object 1 in the left half; the hull support names object 1
+  // on the right half too (a part the mask missed) and object 2 on one pixel
+  // that the mask already gives to object 1.
+  cv::Mat labels = cv::Mat::zeros(10, 20, CV_16U);
+  labels(cv::Rect(0, 0, 10, 10)).setTo(1);
+  LabelCostVolume semantic = SemanticCosts(labels, 3);
+  const LabelCostVolume before = semantic;
+  cv::Mat support = cv::Mat::zeros(10, 20, CV_16U);
+  support(cv::Rect(10, 0, 10, 10)).setTo(1);
+  support.at<uint16_t>(5, 2) = 2;
+  RelaxSemanticCosts(labels, support, &semantic);
+  for (int y = 0; y < 10; ++y)
+    for (int x = 0; x < 20; ++x) {
+      const int p = y * 20 + x;
+      if (x >= 10) {
+        EXPECT_FLOAT_EQ(semantic.At(p, 1), before.At(p, 0)) << x << "," << y;
+        EXPECT_FLOAT_EQ(semantic.At(p, 0), before.At(p, 0));
+      } else {
+        for (int l = 0; l < 3; ++l) EXPECT_FLOAT_EQ(semantic.At(p, l), before.At(p, l));
+      }
+      EXPECT_FLOAT_EQ(semantic.At(p, 2), before.At(p, 2));
+    }
+  EXPECT_THROW(RelaxSemanticCosts(labels, cv::Mat::zeros(5, 5, CV_16U), &semantic), Error);
+}
+
 }  // namespace
 }  // namespace u4d

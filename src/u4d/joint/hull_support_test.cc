@@ -1,0 +1,121 @@
+#include "u4d/joint/hull_support.h"
+
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "u4d/synth/rig.h"
+#include "u4d/util/check.h"
+
+namespace u4d {
+namespace {
+
+struct Sphere {
+  Eigen::Vector3d centre;
+  double radius;
+};
+
+// A figure of spheres: a body column and an arm sticking out sideways.
+const std::vector<Sphere> kBody = {
+    {{0, 0.5, 0}, 0.22}, {{0, 0.9, 0}, 0.22}, {{0, 1.3, 0}, 0.2}, {{0, 1.65, 0}, 0.12}};
+const std::vector<Sphere> kArm = {{{0.3, 1.35, 0}, 0.08}, {{0.45, 1.35, 0}, 0.08}};
+
+bool Hits(const Camera& cam, int x, int y, const std::vector<Sphere>& spheres) {
+  const Eigen::Vector3d c = cam.Center();
+  const Eigen::Vector3d d = (cam.Unproject(Eigen::Vector2d(x, y), 1.0) - c).normalized();
+  for (const Sphere& s : spheres) {
+    const Eigen::Vector3d to = s.centre - c;
+    if ((to - to.dot(d) * d).norm() < s.radius) return true;
+  }
+  return false;
+}
+
+cv::Mat Render(const Camera& cam, const std::vector<Sphere>& spheres) {
+  cv::Mat m = cv::Mat::zeros(cam.height, cam.width, CV_8U);
+  for (int y = 0; y < cam.height; ++y)
+    for (int x = 0; x < cam.width; ++x) m.at<uint8_t>(y, x) = Hits(cam, x, y, spheres) ? 255 : 0;
+  return m;
+}
+
+struct Scene {
+  std::vector<Camera> cameras;
+  std::vector<cv::Mat> body, arm;  // CV_8U per view
+  std::vector<cv::Mat> labels;     // CV_16U object 1 = body + arm
+};
+
+Scene MakeScene() {
+  synth::RigOptions rig;
+  rig.image_width = 320;
+  rig.image_height = 180;
+  Scene s;
+  s.cameras = synth::RigCameras(rig);
+  for (const Camera& cam : s.cameras) {
+    s.body.push_back(Render(cam, kBody));
+    s.arm.push_back(Render(cam, kArm));
+    cv::Mat labels = cv::Mat::zeros(cam.height, cam.width, CV_16U);
+    labels.setTo(1, s.body.back() | s.arm.back());
+    s.labels.push_back(labels);
+  }
+  return s;
+}
+
+// Share of `part`'s pixels that `support` gives to object 1.
+double Covered(const cv::Mat& support, const cv::Mat& part) {
+  return static_cast<double>(cv::countNonZero((support == 1) & part)) / cv::countNonZero(part);
+}
+
+const std::vector<HullObject> kObject = {{1, 3.5, 5.5}};  // the ring's radius is 4.5 m
+// View 2 sees the arm from the side (view 0 looks along it).
+constexpr int kRef = 2;
+
+TEST(HullSupportTest, APartCutFromOneViewComesBackFromTheOthers) {
+  Scene s = MakeScene();
+  const int ref = kRef;
+  const cv::Mat cut = s.arm[ref] & ~s.body[ref];
+  ASSERT_GT(cv::countNonZero(cut), 50) << "the arm must show beside the body in the view";
+  s.labels[ref].setTo(0, cut);
+  const cv::Mat support = HullSupport(s.cameras, s.labels, ref, kObject);
+  EXPECT_GE(Covered(support, cut), 0.7);
+  // It does not spread far beyond the true silhouette: the hull of 7 views
+  // is a little larger than the figure, never a blob around it.
+  cv::Mat near_truth;
+  cv::dilate(s.body[ref] | s.arm[ref], near_truth, cv::Mat::ones(9, 9, CV_8U));
+  const int outside = cv::countNonZero((support == 1) & ~near_truth);
+  EXPECT_LE(outside, 0.05 * cv::countNonZero(s.body[ref] | s.arm[ref]));
+  // Pixels the view already labels are not in the map.
+  EXPECT_EQ(cv::countNonZero((support != 0) & (s.labels[ref] != 0)), 0);
+}
+
+TEST(HullSupportTest, APartNoOtherViewHoldsDoesNotComeBack) {
+  Scene s = MakeScene();
+  for (size_t v = 0; v < s.cameras.size(); ++v) s.labels[v].setTo(0, s.arm[v] & ~s.body[v]);
+  const cv::Mat cut = s.arm[kRef] & ~s.body[kRef];
+  const cv::Mat support = HullSupport(s.cameras, s.labels, kRef, kObject);
+  EXPECT_LE(Covered(support, cut), 0.1);
+}
+
+TEST(HullSupportTest, AnOccluderInAnotherViewDoesNotVetoTheObject) {
+  Scene s = MakeScene();
+  const cv::Mat cut = s.arm[kRef] & ~s.body[kRef];
+  s.labels[kRef].setTo(0, cut);
+  // In views 4 and 6 another object (id 2) covers the whole arm.
+  for (int v : {4, 6}) s.labels[v].setTo(2, s.arm[v]);
+  const cv::Mat support = HullSupport(s.cameras, s.labels, kRef, kObject);
+  EXPECT_GE(Covered(support, cut), 0.7);
+}
+
+TEST(HullSupportTest, BadInputIsAnError) {
+  const Scene s = MakeScene();
+  EXPECT_THROW(HullSupport(s.cameras, s.labels, 8, kObject), Error);
+  EXPECT_THROW(HullSupport(s.cameras, s.labels, 0, {{1, 5.0, 4.0}}), Error);
+  std::vector<cv::Mat> small = s.labels;
+  small[2] = cv::Mat::zeros(10, 10, CV_16U);
+  EXPECT_THROW(HullSupport(s.cameras, small, 0, kObject), Error);
+  HullSupportOptions bad;
+  bad.min_views = 0;
+  EXPECT_THROW(HullSupport(s.cameras, s.labels, 0, kObject, bad), Error);
+}
+
+}  // namespace
+}  // namespace u4d
