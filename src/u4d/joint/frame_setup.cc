@@ -35,6 +35,18 @@ void AddHullSupport(const std::vector<Camera>& cameras, const HullSupportOptions
     if (objects.empty()) continue;
     in.hull_support = HullSupport(cameras, labels, static_cast<int>(v), objects, options);
     for (JointObject& obj : in.objects) obj.region |= in.hull_support == obj.id;
+    // E_a: the supported pixels are no background sample at t, and those well
+    // inside the support are samples of their object.
+    LabelledImage& at_t = in.appearance_training.front();
+    at_t.labels = at_t.labels.clone();
+    at_t.labels.setTo(kUnsampledLabel, in.hull_support != 0);
+    cv::Mat inner;
+    cv::erode(in.hull_support, inner, cv::Mat::ones(3, 3, CV_8U));
+    in.markers.resize(in.num_labels);
+    for (int y = 0; y < inner.rows; ++y)
+      for (int x = 0; x < inner.cols; ++x)
+        if (const int o = inner.at<uint16_t>(y, x); o > 0 && o < in.num_labels)
+          in.markers[o].emplace_back(x, y);
   }
 }
 

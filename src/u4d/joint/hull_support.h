@@ -18,7 +18,8 @@
 // are tested (and the map is 0 on the others); a pixel supported by several objects takes the
 // nearest one. The map widens the solve's region and relaxes E_sem there (the detector's
 // "background" at p is contradicted by the other views: E_sem does not
-// prefer it over o), so E_a, E_c and E_d decide the label.
+// prefer it over o, and E_a's colour models sample it as o, not as the
+// background: frame_setup.cc), so E_a, E_c and E_d decide the label.
 #pragma once
 
 #include <vector>

@@ -68,7 +68,10 @@ struct LabelCostVolume {
 };
 
 // One training image of the temporal neighbourhood: an image with its
-// initial label map (CV_16U, label ids as above, 0 = background).
+// initial label map (CV_16U, label ids as above, 0 = background). Pixels
+// labelled kUnsampledLabel (or any label >= the number of labels) give no
+// colour sample: neither background nor an object.
+inline constexpr uint16_t kUnsampledLabel = 65535;
 struct LabelledImage {
   cv::Mat image;   // BGR 8-bit
   cv::Mat labels;  // CV_16U
