@@ -10,6 +10,7 @@
 #include "u4d/init/init.h"
 #include "u4d/io/capture.h"
 #include "u4d/io/frame_reader.h"
+#include "u4d/io/import_calibration.h"
 #include "u4d/io/layout.h"
 #include "u4d/synth/generate.h"
 #include "u4d/util/testing.h"
@@ -182,6 +183,28 @@ TEST(ChromaKey, AutoLeavesOrdinaryStagesUnkeyed) {
       std::printf("%s view %d: border share of its best hue %.2f\n", indoor ? "room" : "outdoor", v,
                   key.border_share);
       EXPECT_FALSE(key.keyed) << (indoor ? "room" : "outdoor") << " view " << v;
+    }
+  }
+}
+
+// Real captures that are not keyed stay unkeyed: the Panoptic dome (grey
+// walls, lamps) and the Pose2Sim room.
+TEST(ChromaKey, AutoLeavesRealCapturesUnkeyed) {
+  const fs::path panoptic = DataDir() / "panoptic_demo";
+  const fs::path pose2sim = DataDir() / "pose2sim_single";
+  U4D_SKIP_WITHOUT_SHARED_DATA(panoptic);
+  U4D_SKIP_WITHOUT_SHARED_DATA(pose2sim);
+  for (const fs::path& source : {panoptic, pose2sim}) {
+    const Capture capture = source == panoptic ? ImportPanoptic(source) : ImportQualisys(source);
+    FrameReader reader(capture);
+    for (int v = 0; v < capture.NumViews(); ++v) {
+      std::vector<cv::Mat> frames;
+      for (int t = 0; t < std::min(capture.num_frames, 5); ++t) frames.push_back(reader.Read(v, t));
+      const ChromaKey key = ChooseChromaKey(frames, ChromaKeyOptions(), capture.views[v].name);
+      std::printf("%s %s: border share of its best hue %.2f (hue %.0f deg)\n",
+                  source.filename().c_str(), capture.views[v].name.c_str(), key.border_share,
+                  key.HueDegrees());
+      EXPECT_FALSE(key.keyed) << source << " " << capture.views[v].name;
     }
   }
 }
