@@ -181,6 +181,10 @@ TEST(Cli, RunConfigSetAndFlagsOverrideAnyOption) {
               {"joint.weights", "paper_weights"});
   ExpectFails({"run", cap.string(), "-o", out, "--box-fill", "sometimes"}, kCliValidation,
               {"--box-fill", "never, empty-views, always", "sometimes"});
+  ExpectFails({"run", cap.string(), "-o", out, "--chroma-key", "sometimes"}, kCliValidation,
+              {"--chroma-key", "off, auto, on", "sometimes"});
+  ExpectFails({"run", cap.string(), "-o", out, "--set", "chroma_key.colour=greenish"}, 1,
+              {"colour", "greenish"});
   EXPECT_FALSE(fs::exists(out));
 }
 

@@ -26,10 +26,10 @@ struct ImportArgs {
 Command MakeImportCommand() {
   auto args = std::make_shared<ImportArgs>();
   return {
-      "import", "convert a panoptic/qualisys/fourda/middlebury/easymocap capture",
+      "import", "convert a panoptic/qualisys/fourda/middlebury/easymocap/opencv capture",
       [=](CLI::App& app) {
         app.add_option("format", args->format,
-                       "panoptic, qualisys, fourda, middlebury or easymocap")
+                       "panoptic, qualisys, fourda, middlebury, easymocap or opencv")
             ->required();
         app.add_option("source", args->source, "source folder (or calibration file)")->required();
         app.add_option("-o,--output", args->output, "native capture directory to write")
@@ -37,6 +37,9 @@ Command MakeImportCommand() {
         app.add_option("--max-frames", args->options.max_frames,
                        "keep at most this many frames (0 = all)");
         app.add_option("--fps", args->options.fps, "frame rate (0 = the source's)");
+        app.add_option("--unit", args->options.unit,
+                       "opencv: unit of the files' translations (m, cm or mm)")
+            ->check(CLI::IsMember({"m", "cm", "mm"}));
       },
       [=] {
         const ImportFormat format = ImportFormatFromString(args->format);

@@ -28,6 +28,7 @@ struct SynthArgs {
   bool no_meshes = false;
   int clean_plate = 0;
   bool still = false;
+  bool keyed = false;
   bool force = false;
   int start_frame = -1;
 };
@@ -138,6 +139,9 @@ Command MakeSynthCommand() {
                            "frames of the empty stage to write as clean plates (background/)")
                 ->check(CLI::NonNegativeNumber);
             app.add_flag("--still", a->still, "the people stand still (the first frame's pose)");
+            app.add_flag("--keyed", a->keyed,
+                         "a green-screen stage: keyed backdrop, spill on the people, floor "
+                         "shadows");
             app.add_flag("--force", a->force,
                          "write into a non-empty folder (a previous capture there is replaced)");
             app.add_option("--start-frame", a->start_frame,
@@ -153,6 +157,7 @@ Command MakeSynthCommand() {
             o.write_meshes = !a->no_meshes;
             o.clean_plate_frames = a->clean_plate;
             o.still_people = a->still;
+            if (a->keyed) UseKeyedStage(&o);
             o.start_frame = a->start_frame;
             PrintSynthSummary(synth::WriteSyntheticCapture(o, a->out, /*progress=*/true), a->out);
             return 0;

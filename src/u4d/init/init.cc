@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include "u4d/init/init.h"
+#include "u4d/init/init_internal.h"
 #include "u4d/util/check.h"
 
 namespace u4d {
@@ -132,7 +133,8 @@ void InitOptions::Check() const {
 std::vector<cv::Mat> UnsupervisedInstanceMasks(const std::vector<Camera>& cameras,
                                                const std::vector<cv::Mat>& images_t,
                                                const std::vector<BackgroundModel>& backgrounds,
-                                               const InitOptions& options) {
+                                               const InitOptions& options,
+                                               const std::vector<ChromaKey>& keys) {
   options.Check();
   const int nv = static_cast<int>(images_t.size());
   U4D_CHECK(nv >= 1, "UnsupervisedInstanceMasks: no images given");
@@ -142,6 +144,10 @@ std::vector<cv::Mat> UnsupervisedInstanceMasks(const std::vector<Camera>& camera
   U4D_CHECK(cameras.empty() || cameras.size() == images_t.size(),
             "UnsupervisedInstanceMasks: {} cameras for {} images (give one per view or none)",
             cameras.size(), images_t.size());
+  U4D_CHECK(keys.empty() || keys.size() == images_t.size(),
+            "UnsupervisedInstanceMasks: {} chroma keys for {} images (give one per view or none)",
+            keys.size(), images_t.size());
+  const auto keyed = [&](int v) { return !keys.empty() && keys[v].keyed; };
   for (int v = 0; v < nv; ++v) {
     U4D_CHECK(!images_t[v].empty(), "UnsupervisedInstanceMasks: image of view {} is empty", v);
     if (!cameras.empty()) {
@@ -154,14 +160,16 @@ std::vector<cv::Mat> UnsupervisedInstanceMasks(const std::vector<Camera>& camera
   std::vector<std::vector<PersonBox>> boxes(nv);
   // Views in parallel; HOG and OpenCV's filters are themselves parallel.
   tbb::parallel_for(0, nv, [&](int v) {
-    fg[v] = ForegroundMask(images_t[v], backgrounds[v], options);
+    fg[v] = keyed(v) ? CleanMask(ChromaKeyMask(images_t[v], keys[v]), options)
+                     : ForegroundMask(images_t[v], backgrounds[v], options);
     if (options.use_hog) {
       boxes[v] = DetectPeople(images_t[v], options);
       fg[v] = AddDetectedPeople(images_t[v], fg[v], boxes[v], options);
     }
-    if (options.remove_ghosts) fg[v] = RemoveGhosts(images_t[v], fg[v], backgrounds[v], options);
+    if (options.remove_ghosts && !keyed(v))
+      fg[v] = RemoveGhosts(images_t[v], fg[v], backgrounds[v], options);
     if (options.still_grabcut_iterations > 0)
-      filled[v] = FillStillSubjects(images_t[v], fg[v], backgrounds[v], options);
+      filled[v] = keyed(v) ? fg[v] : FillStillSubjects(images_t[v], fg[v], backgrounds[v], options);
   });
   if (options.still_grabcut_iterations > 0) {
     if (options.cross_view && cameras.size() >= 2 && options.carve_still_fill) {

@@ -98,6 +98,7 @@
 #include <opencv2/core.hpp>
 
 #include "u4d/geometry/camera.h"
+#include "u4d/init/chroma_key.h"
 #include "u4d/io/instance_mask.h"
 
 namespace u4d {
@@ -369,11 +370,16 @@ cv::Mat SplitInstances(const cv::Mat& image_bgr, const cv::Mat& foreground,
 
 // The whole chain for one time step: cameras[v], images_t[v] (BGR) and
 // backgrounds[v] per view; cameras may be empty (no cross-view check).
+// `keys` (empty, or one per view): a view whose key is `keyed` takes its
+// step-2 foreground from ChromaKeyMask (chroma_key.h; cleaned as step 2)
+// instead of its background, which may then be empty, and skips steps 5a
+// and 5b (they need a background model); the other steps are alike.
 // Returns CV_16UC1 ids per view (0 = background, 1..n per view).
 std::vector<cv::Mat> UnsupervisedInstanceMasks(const std::vector<Camera>& cameras,
                                                const std::vector<cv::Mat>& images_t,
                                                const std::vector<BackgroundModel>& backgrounds,
-                                               const InitOptions& options = {});
+                                               const InitOptions& options = {},
+                                               const std::vector<ChromaKey>& keys = {});
 
 // The ids as an InstanceMask (class "person", score 1 for every id present),
 // ready for WriteInstanceMask.

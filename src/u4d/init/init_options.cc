@@ -112,4 +112,25 @@ void DeclareOptions(OptionRegistry& r, InitOptions* o) {
         "pixels missing an id take the nearest within this x image height, else are dropped");
 }
 
+void DeclareOptions(OptionRegistry& r, ChromaKeyOptions* o) {
+  using Mode = ChromaKeyOptions::Mode;
+  r.AddEnum("mode", &o->mode, {{"off", Mode::kOff}, {"auto", Mode::kAuto}, {"on", Mode::kOn}},
+            "key green/blue-screen views: off, auto (views whose border is mostly one saturated "
+            "hue), on (every view)");
+  r.Add("colour", &o->colour,
+        "backdrop colour: auto (found at the border), green, blue or #RRGGBB");
+  r.Add("max_frames", &o->max_frames, "frames sampled (evenly) to find the backdrop colour");
+  r.Add("border_fraction", &o->border_fraction,
+        "border band width where the backdrop colour is looked for (x the shorter side)");
+  r.Add("min_saturation", &o->min_saturation,
+        "saturated: |rgb chroma| >= this (grey 0, pure primary 1)");
+  r.Add("hue_tolerance_deg", &o->hue_tolerance_deg, "backdrop hue +- this (degrees)");
+  r.Add("min_key_fraction", &o->min_key_fraction,
+        "backdrop: chroma along the key's >= this x the key's (spill stays foreground)");
+  r.Add("min_brightness", &o->min_brightness,
+        "backdrop: r + g + b >= this x the key's (darker pixels are foreground)");
+  r.Add("min_border_share", &o->min_border_share,
+        "auto: key a view when this share of its border is backdrop");
+}
+
 }  // namespace u4d

@@ -11,5 +11,6 @@ namespace u4d {
 
 void DeclareOptions(OptionRegistry& r, BackgroundOptions* o);
 void DeclareOptions(OptionRegistry& r, InitOptions* o);
+void DeclareOptions(OptionRegistry& r, ChromaKeyOptions* o);
 
 }  // namespace u4d

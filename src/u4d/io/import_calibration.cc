@@ -14,152 +14,18 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "u4d/io/file_storage.h"
 #include "u4d/io/frame_reader.h"
+#include "u4d/io/import_internal.h"
+#include "u4d/io/import_opencv.h"
 #include "u4d/io/layout.h"
 #include "u4d/util/check.h"
 
 namespace u4d {
+
+using namespace import_internal;  // NOLINT(google-build-using-namespace): the importers' helpers
+
 namespace {
-
-// ---- small parsing helpers ---------------------------------------------------
-
-double ParseFinite(const std::string& token, const std::string& context, const std::string& what) {
-  char* end = nullptr;
-  const double v = std::strtod(token.c_str(), &end);
-  U4D_CHECK(end != token.c_str() && *end == '\0', "{}: {} must be a number, found '{}'", context,
-            what, token);
-  U4D_CHECK(std::isfinite(v), "{}: {} is not finite ('{}')", context, what, token);
-  return v;
-}
-
-// All numbers of a (possibly nested) JSON array, flattened; exactly `n`.
-std::vector<double> JsonNumbers(const nlohmann::json& j, const std::string& key, size_t n,
-                                const std::string& context) {
-  U4D_CHECK(j.is_object() && j.contains(key), "{}: missing field '{}'", context, key);
-  std::vector<double> out;
-  std::function<void(const nlohmann::json&)> add = [&](const nlohmann::json& x) {
-    if (x.is_array()) {
-      for (const auto& y : x) add(y);
-    } else {
-      U4D_CHECK(x.is_number(), "{}: '{}' must hold numbers, found {}", context, key, x.dump());
-      out.push_back(x.get<double>());
-    }
-  };
-  add(j.at(key));
-  U4D_CHECK(out.size() == n, "{}: '{}' must have {} numbers, found {}", context, key, n,
-            out.size());
-  for (double d : out) U4D_CHECK(std::isfinite(d), "{}: '{}' has a non-finite value", context, key);
-  return out;
-}
-
-Eigen::Matrix3d RowMajor3x3(const double* v) {
-  Eigen::Matrix3d m;
-  for (int i = 0; i < 9; ++i) m(i / 3, i % 3) = v[i];
-  return m;
-}
-
-// Checks `m` is a rotation to within `tol` (files write few digits), then
-// returns the nearest exact rotation.
-Eigen::Matrix3d CleanRotation(const Eigen::Matrix3d& m, const std::string& context,
-                              double tol = 1e-2) {
-  U4D_CHECK(IsRotation(m, tol), "{}: the rotation is not a rotation matrix (|R R^T - I| or det)",
-            context);
-  return NearestRotation(m);
-}
-
-std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
-
-bool IsImageFile(const fs::path& p) {
-  static const std::set<std::string> exts = {".jpg", ".jpeg", ".png", ".bmp", ".tif", ".tiff"};
-  return fs::is_regular_file(p) && exts.count(Lower(p.extension().string())) > 0;
-}
-
-std::vector<fs::path> SortedImages(const fs::path& dir) {
-  std::vector<fs::path> out;
-  for (const auto& e : fs::directory_iterator(dir))
-    if (IsImageFile(e.path())) out.push_back(e.path());
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
-cv::Size ImageSize(const fs::path& path) {
-  const cv::Mat image = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
-  U4D_CHECK(!image.empty(), "{}: cannot read image", path.string());
-  return image.size();
-}
-
-struct VideoInfo {
-  int frames = 0;
-  double fps = 0;
-  cv::Size size;
-};
-
-VideoInfo ProbeVideo(const fs::path& path) {
-  CheckFileExists(path, "video");
-  cv::VideoCapture cap(path.string());
-  U4D_CHECK(cap.isOpened(), "{}: cannot open video", path.string());
-  VideoInfo info;
-  info.frames = static_cast<int>(cap.get(cv::CAP_PROP_FRAME_COUNT));
-  info.fps = cap.get(cv::CAP_PROP_FPS);
-  info.size = {static_cast<int>(cap.get(cv::CAP_PROP_FRAME_WIDTH)),
-               static_cast<int>(cap.get(cv::CAP_PROP_FRAME_HEIGHT))};
-  U4D_CHECK(info.frames > 0, "{}: video reports no frames", path.string());
-  return info;
-}
-
-fs::path Absolute(const fs::path& p) { return fs::absolute(p).lexically_normal(); }
-
-// `source` itself when it is a file, else the one file in it ending in `suffix`.
-fs::path FindOneFile(const fs::path& source, const std::string& suffix) {
-  if (fs::is_regular_file(source)) return source;
-  CheckDirExists(source, "source");
-  std::vector<fs::path> found;
-  for (const auto& e : fs::directory_iterator(source)) {
-    const std::string name = e.path().filename().string();
-    if (e.is_regular_file() && name.size() >= suffix.size() &&
-        name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
-      found.push_back(e.path());
-  }
-  U4D_CHECK(found.size() == 1, "{}: expected exactly one *{} file, found {}", source.string(),
-            suffix, found.size());
-  return found[0];
-}
-
-// Limits the capture to options.max_frames frames and sets its fps.
-void Finish(Capture& capture, const ImportOptions& options, double source_fps) {
-  if (options.max_frames > 0 && capture.num_frames > options.max_frames) {
-    capture.num_frames = options.max_frames;
-    for (CaptureView& v : capture.views)
-      if (!v.source.files.empty()) v.source.files.resize(capture.num_frames);
-  }
-  capture.fps = options.fps > 0 ? options.fps : source_fps;
-  capture.Check("import " + capture.root.string());
-}
-
-// Views from image folders: per view the sorted file stems; frames are the
-// stems common to all views. `stem_to_frame` maps a file stem to a frame key.
-void FillCommonImageFrames(Capture& capture, const std::vector<std::vector<fs::path>>& files,
-                           const std::function<std::string(const fs::path&)>& frame_key) {
-  std::vector<std::map<std::string, fs::path>> by_key(files.size());
-  for (size_t v = 0; v < files.size(); ++v)
-    for (const fs::path& f : files[v]) by_key[v][frame_key(f)] = f;
-  std::vector<std::string> common;
-  for (const auto& [key, path] : by_key[0]) {
-    bool all = true;
-    for (const auto& m : by_key) all = all && m.count(key);
-    if (all) common.push_back(key);
-  }
-  U4D_CHECK(!common.empty(), "{}: the views have no frame in common", capture.root.string());
-  capture.num_frames = static_cast<int>(common.size());
-  for (size_t v = 0; v < files.size(); ++v) {
-    FrameSource& src = capture.views[v].source;
-    src.kind = FrameSource::Kind::kImages;
-    for (const std::string& key : common) src.files.push_back(Absolute(by_key[v][key]).string());
-  }
-}
 
 // ---- Qualisys XML ------------------------------------------------------------
 
@@ -191,37 +57,6 @@ double NumberAttribute(const std::string& tag_text, const std::string& name,
 
 // ---- EasyMocap YAML ----------------------------------------------------------
 
-cv::Mat ReadYamlMat(const cv::FileStorage& fs, const std::string& key, int numel,
-                    const std::string& context) {
-  const cv::FileNode node = fs[key];
-  U4D_CHECK(!node.empty() && !node.isNone(), "{}: missing key '{}'", context, key);
-  cv::Mat m;
-  try {
-    node >> m;
-  } catch (const cv::Exception& e) {
-    ThrowError(fmt::format("{}: '{}' is not a matrix ({})", context, key, e.what()));
-  }
-  U4D_CHECK(!m.empty() && static_cast<int>(m.total()) * m.channels() == numel,
-            "{}: '{}' must have {} values, found {}x{}", context, key, numel, m.rows, m.cols);
-  m.convertTo(m, CV_64F);
-  m = m.reshape(1, 1);
-  for (int i = 0; i < numel; ++i)
-    U4D_CHECK(std::isfinite(m.at<double>(i)), "{}: '{}' has a non-finite value", context, key);
-  return m;
-}
-
-cv::FileStorage OpenYaml(const fs::path& path) {
-  CheckFileExists(path, "EasyMocap calibration");
-  cv::FileStorage fs;
-  try {
-    fs.open(path.string(), cv::FileStorage::READ);
-  } catch (const cv::Exception& e) {
-    ThrowError(fmt::format("{}: cannot parse as OpenCV YAML ({})", path.string(), e.what()));
-  }
-  U4D_CHECK(fs.isOpened(), "{}: cannot open as OpenCV YAML", path.string());
-  return fs;
-}
-
 std::vector<std::string> YamlNames(const cv::FileStorage& fs, const std::string& context) {
   const cv::FileNode node = fs["names"];
   U4D_CHECK(node.isSeq(), "{}: missing 'names' list", context);
@@ -250,23 +85,34 @@ std::string ToString(ImportFormat format) {
       return "middlebury";
     case ImportFormat::kEasyMocap:
       return "easymocap";
+    case ImportFormat::kOpenCv:
+      return "opencv";
   }
   U4D_ASSERT(false);
   return {};
 }
 
 ImportFormat ImportFormatFromString(const std::string& s) {
-  for (ImportFormat f : {ImportFormat::kPanoptic, ImportFormat::kQualisys, ImportFormat::kFourda,
-                         ImportFormat::kMiddlebury, ImportFormat::kEasyMocap})
+  for (ImportFormat f :
+       {ImportFormat::kPanoptic, ImportFormat::kQualisys, ImportFormat::kFourda,
+        ImportFormat::kMiddlebury, ImportFormat::kEasyMocap, ImportFormat::kOpenCv})
     if (ToString(f) == s) return f;
   ThrowError(fmt::format(
-      "unknown import format '{}' (expected panoptic, qualisys, fourda, middlebury or easymocap)",
+      "unknown import format '{}' (expected panoptic, qualisys, fourda, middlebury, easymocap "
+      "or opencv)",
       s));
 }
 
 void ImportOptions::Check() const {
   U4D_CHECK(max_frames >= 0, "ImportOptions: max_frames must be >= 0, found {}", max_frames);
   U4D_CHECK(fps >= 0 && std::isfinite(fps), "ImportOptions: fps must be >= 0, found {}", fps);
+  U4D_CHECK(unit == "m" || unit == "cm" || unit == "mm",
+            "ImportOptions: unit must be m, cm or mm, found '{}'", unit);
+}
+
+double ImportOptions::MetresPerUnit() const {
+  Check();
+  return unit == "mm" ? 1e-3 : unit == "cm" ? 1e-2 : 1.0;
 }
 
 // ---- Panoptic ----------------------------------------------------------------
@@ -563,26 +409,22 @@ Capture ImportMiddlebury(const fs::path& source, const ImportOptions& options) {
 std::vector<NamedCamera> ReadEasyMocapCalibration(const fs::path& intri_path,
                                                   const fs::path& extri_path,
                                                   const fs::path& image_root) {
-  const cv::FileStorage intri = OpenYaml(intri_path);
-  const cv::FileStorage extri = OpenYaml(extri_path);
+  const cv::FileStorage intri_file = OpenFileStorage(intri_path, "EasyMocap intrinsics");
+  const cv::FileStorage extri_file = OpenFileStorage(extri_path, "EasyMocap extrinsics");
+  const cv::FileNode intri = intri_file.root(), extri = extri_file.root();
   const std::string ictx = intri_path.string(), ectx = extri_path.string();
-  const std::vector<std::string> names = YamlNames(intri, ictx);
+  const std::vector<std::string> names = YamlNames(intri_file, ictx);
   std::vector<NamedCamera> out;
   for (const std::string& name : names) {
     NamedCamera nc;
     nc.name = name;
     Camera& cam = nc.camera;
-    const cv::Mat k = ReadYamlMat(intri, "K_" + name, 9, ictx);
-    cam.K = RowMajor3x3(k.ptr<double>());
-    const cv::FileNode dist_node = intri["dist_" + name];
-    const int dist_count = dist_node.empty() ? 0 : static_cast<int>(dist_node["data"].size());
-    U4D_CHECK(dist_count == 4 || dist_count == 5, "{}: 'dist_{}' must have 4 or 5 values, found {}",
-              ictx, name, dist_count);
-    const cv::Mat d = ReadYamlMat(intri, "dist_" + name, dist_count, ictx);
-    for (int i = 0; i < dist_count; ++i) cam.dist[i] = d.at<double>(i);
-    if (!intri["H_" + name].empty() && !intri["W_" + name].empty()) {
-      cam.height = static_cast<int>(intri["H_" + name]);
-      cam.width = static_cast<int>(intri["W_" + name]);
+    cam.K = RowMajor3x3(ReadNumbers(intri, "K_" + name, {9}, ictx).data());
+    const std::vector<double> d = ReadNumbers(intri, "dist_" + name, {4, 5}, ictx);
+    for (size_t i = 0; i < d.size(); ++i) cam.dist[i] = d[i];
+    if (HasKey(intri, "H_" + name) && HasKey(intri, "W_" + name)) {
+      cam.height = ReadInt(intri, "H_" + name, ictx);
+      cam.width = ReadInt(intri, "W_" + name, ictx);
     } else {
       const fs::path folder = image_root / name;
       U4D_CHECK(!image_root.empty() && fs::is_directory(folder) && !SortedImages(folder).empty(),
@@ -592,20 +434,13 @@ std::vector<NamedCamera> ReadEasyMocapCalibration(const fs::path& intri_path,
       cam.width = size.width;
       cam.height = size.height;
     }
-    Eigen::Matrix3d r;
-    if (!extri["Rot_" + name].empty()) {
-      const cv::Mat rot = ReadYamlMat(extri, "Rot_" + name, 9, ectx);
-      r = RowMajor3x3(rot.ptr<double>());
-    } else {
-      const cv::Mat rvec = ReadYamlMat(extri, "R_" + name, 3, ectx);
-      cv::Mat rot;
-      cv::Rodrigues(rvec.reshape(1, 3), rot);
-      r = RowMajor3x3(rot.ptr<double>());
-    }
+    const std::vector<double> r = HasKey(extri, "Rot_" + name)
+                                      ? ReadNumbers(extri, "Rot_" + name, {9}, ectx)
+                                      : ReadNumbers(extri, "R_" + name, {3}, ectx);
     const std::string cctx = fmt::format("{} / {}: camera {}", ictx, ectx, name);
-    cam.cam_from_world.rotation = CleanRotation(r, cctx, 1e-4);
-    const cv::Mat t = ReadYamlMat(extri, "T_" + name, 3, ectx);
-    cam.cam_from_world.translation = {t.at<double>(0), t.at<double>(1), t.at<double>(2)};
+    cam.cam_from_world.rotation = CleanRotation(RotationFromValues(r), cctx, 1e-4);
+    const std::vector<double> t = ReadNumbers(extri, "T_" + name, {3}, ectx);
+    cam.cam_from_world.translation = {t[0], t[1], t[2]};
     cam.Check(cctx);
     out.push_back(std::move(nc));
   }
@@ -723,6 +558,8 @@ Capture ImportCapture(ImportFormat format, const fs::path& source, const ImportO
       return ImportMiddlebury(source, options);
     case ImportFormat::kEasyMocap:
       return ImportEasyMocap(source, options);
+    case ImportFormat::kOpenCv:
+      return ImportOpenCv(source, options);
   }
   U4D_ASSERT(false);
   return {};

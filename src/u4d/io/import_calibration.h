@@ -26,6 +26,10 @@
 //              H_<cam>, W_<cam>) and <dir>/extri.yml (R_<cam> Rodrigues 3x1,
 //              Rot_<cam> 3x3, T_<cam> 3x1 in metres) + <dir>/images/<cam>/<frame>.jpg
 //              (or <dir>/videos/<cam>.mp4).
+//  opencv      OpenCV FileStorage files (XML, YAML) per camera or one file for
+//              all, with the usual key spellings (camera_matrix / CameraMatrix /
+//              K, ...), translations in the unit of ImportOptions::unit; frames
+//              from a video or an image folder per camera (see import_opencv.h).
 //
 // Every reader throws u4d::Error naming the file and the problem on a missing
 // file, a syntax error, a missing key, a wrong matrix size, a non-finite value,
@@ -41,9 +45,9 @@
 
 namespace u4d {
 
-enum class ImportFormat { kPanoptic, kQualisys, kFourda, kMiddlebury, kEasyMocap };
+enum class ImportFormat { kPanoptic, kQualisys, kFourda, kMiddlebury, kEasyMocap, kOpenCv };
 
-// "panoptic", "qualisys", "fourda", "middlebury", "easymocap".
+// "panoptic", "qualisys", "fourda", "middlebury", "easymocap", "opencv".
 std::string ToString(ImportFormat format);
 ImportFormat ImportFormatFromString(const std::string& s);  // throws on unknown names
 
@@ -54,8 +58,12 @@ struct ImportOptions {
   // rate, else the format's nominal rate: Panoptic HD 29.97, Shelf 25,
   // EasyMocap image folders 30, Middlebury 1).
   double fps = 0;
+  // opencv only: the unit of the files' translations, "m", "cm" or "mm"
+  // (the files do not say; OpenCV's calibration takes the board's unit).
+  std::string unit = "m";
 
   void Check() const;
+  double MetresPerUnit() const;  // 1, 0.01 or 0.001
 };
 
 // A camera with the name its source file gives it.

@@ -19,7 +19,6 @@
 #include "u4d/eval/segment_drift.h"
 #include "u4d/fusion/labelled_ply.h"
 #include "u4d/io/capture.h"
-#include "u4d/io/clean_plate.h"
 #include "u4d/io/frame_reader.h"
 #include "u4d/io/image_io.h"
 #include "u4d/io/instance_mask.h"
@@ -29,6 +28,7 @@
 #include "u4d/joint/parameters.h"
 #include "u4d/pipeline/initial_objects.h"
 #include "u4d/pipeline/scene_outputs.h"
+#include "u4d/pipeline/view_stage.h"
 #include "u4d/pose/given_poses.h"
 #include "u4d/pose/pose_smoothing.h"
 #include "u4d/util/check.h"
@@ -161,26 +161,18 @@ std::vector<cv::Mat> ReadGivenMasks(Context& c, int frame) {
   return masks;
 }
 
-// View v's background model: from its clean plate when the capture has one,
-// else from the capture's own frames.
-BackgroundModel ViewBackground(Context& c, int v) {
-  const Camera& cam = c.cap.views[v].CameraAt(0);
-  const std::vector<cv::Mat> plate = ReadCleanPlate(c.cap.root, c.names[v], cam.width, cam.height);
-  const auto read = [&](int f) { return c.reader.Read(v, f); };
-  if (plate.empty()) return EstimateBackground(c.cap.num_frames, read, c.o.background);
-  fmt::print("[initial] view {}: background from its clean plate ({} frames)\n", c.names[v],
-             plate.size());
-  return BackgroundFromPlate(plate, c.cap.num_frames, read, c.o.background);
-}
-
 int ComputeInitialObjects(Context& c, const std::vector<std::vector<Pose3d>>& poses) {
   std::vector<BackgroundModel> backgrounds;
+  std::vector<ChromaKey> keys;
   if (c.masks == MaskSource::kUnsupervised) {
     for (int v = 0; v < c.NumViews(); ++v) {
       U4D_CHECK(!c.cap.views[v].IsMoving(),
                 "view {} moves: unsupervised masks need static cameras (give masks/ instead)",
                 c.names[v]);
-      backgrounds.push_back(ViewBackground(c, v));
+      ViewStage stage = ReadViewStage(
+          c.cap, v, [&](int f) { return c.reader.Read(v, f); }, c.o.background, c.o.chroma_key);
+      backgrounds.push_back(std::move(stage.background));
+      keys.push_back(stage.key);
     }
   }
   ObjectLinker linker;
@@ -198,7 +190,7 @@ int ComputeInitialObjects(Context& c, const std::vector<std::vector<Pose3d>>& po
     std::vector<cv::Mat> masks =
         c.masks == MaskSource::kGiven
             ? ReadGivenMasks(c, f)
-            : UnsupervisedInstanceMasks(cams, images, backgrounds, c.o.init);
+            : UnsupervisedInstanceMasks(cams, images, backgrounds, c.o.init, keys);
     if (c.masks == MaskSource::kGiven && !with_poses && ground)
       masks = GroundPeopleFromDetections(cams, masks, c.o.init, &ground_people);
     const FrameObjects objects =
@@ -226,7 +218,9 @@ void CheckNotEmpty(const Context& c) {
             "{}: no object found in any view at any of the {} frames run (masks: {}). "
             "Give initial masks (masks/<view>/<frame>.png, docs/formats.md) or 3D or 2D poses "
             "(poses3d/, poses2d/); without them people are found only where they move against "
-            "the background of the capture's frames. --allow-empty accepts an empty scene.",
+            "the background of the capture's frames, unless the capture holds a clean plate "
+            "(background/<view>.png) or is keyed (--chroma-key on). --allow-empty accepts an "
+            "empty scene.",
             c.cap.root.string(), c.NumFrames(), ToString(c.masks));
   fmt::print(
       "[initial] warning: no object found in any view at {} of {} frames (first: {}); "

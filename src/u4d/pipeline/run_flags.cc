@@ -50,6 +50,7 @@ const std::vector<OptionFlag>& RunOptionFlags() {
       {"--threads", "threads", ""},
       {"--pose-smoothing", "pose_smoothing.window_seconds", ""},
       {"--box-fill", "init.box_fill", ""},
+      {"--chroma-key", "chroma_key.mode", ""},
       {"--no-joint-tracks", "tracks.add_joint_tracks", "false"},
       {"--no-resume", "resume", "false"},
       {"--no-eval", "evaluate", "false"},

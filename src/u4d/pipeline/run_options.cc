@@ -66,6 +66,7 @@ void RunOptions::Check() const {
             "would replace them; set paper_weights to false to use them");
   background.Check();
   init.Check();
+  chroma_key.Check();
   frame_setup.Check();
   joint.Check();
   pose.Check();
@@ -126,6 +127,7 @@ void DeclareOptions(OptionRegistry& r, RunOptions* o) {
         "succeed even when no frame has an object (else u4d::Error)", OptionRole::kRunControl);
   r.Nested("background", &o->background);
   r.Nested("init", &o->init);
+  r.Nested("chroma_key", &o->chroma_key);
   r.Nested("frame_setup", &o->frame_setup);
   r.Nested("joint", &o->joint);
   r.Add("paper_weights", &o->paper_weights,

@@ -63,6 +63,7 @@ struct RunOptions {
 
   BackgroundOptions background;   // unsupervised masks: the background model
   InitOptions init;               // unsupervised masks: foreground, people, cross-view check
+  ChromaKeyOptions chroma_key;    // unsupervised masks: green/blue-screen views keyed
   FrameSetupOptions frame_setup;  // working width, depth margins
   JointViewOptions joint;         // the energy; weights default to PaperWeights at run time
   bool paper_weights = true;      // set joint.weights from the paper's table for the capture

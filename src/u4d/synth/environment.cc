@@ -43,6 +43,8 @@ void EnvironmentOptions::Check() const {
             "EnvironmentOptions: sizes must be positive (floor {}, tile {}, room {}, wall {}, "
             "radius {}, height {})",
             floor_size, floor_tile, room_size, wall_height, outdoor_radius, outdoor_height);
+  U4D_CHECK(key_colour.minCoeff() >= 0 && key_colour.maxCoeff() <= 1,
+            "EnvironmentOptions: key_colour must be linear BGR in [0, 1]");
   U4D_CHECK(cylinder_segments >= 3, "EnvironmentOptions: cylinder_segments must be >= 3, got {}",
             cylinder_segments);
 }
@@ -117,6 +119,18 @@ std::vector<SceneObject> MakeEnvironment(const EnvironmentOptions& o) {
     back.materials = {wall, sky};
   }
   objects.push_back(std::move(back));
+  if (o.keyed) {
+    Material screen;
+    screen.pattern = Material::Pattern::kNoise;
+    screen.color_a = 1.08f * o.key_colour;
+    screen.color_b = 0.92f * o.key_colour;
+    screen.scale = 0.7f;
+    for (SceneObject& object : objects)
+      for (Material& m : object.materials) {
+        screen.seed = m.seed;
+        m = screen;
+      }
+  }
   return objects;
 }
 

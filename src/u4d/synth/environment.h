@@ -18,6 +18,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "u4d/synth/scene.h"
 
 namespace u4d::synth {
@@ -32,6 +34,11 @@ struct EnvironmentOptions {
   double outdoor_radius = 30.0;  // outdoor: radius of the background cylinder (m)
   double outdoor_height = 15.0;  // outdoor: height of the cylinder (m)
   int cylinder_segments = 64;    // outdoor: facets around the cylinder
+  // A keyed stage: floor, walls and ceiling (or cylinder and cap) are all
+  // the screen colour key_colour (linear BGR), with a faint noise pattern
+  // (+-8%), as a green-screen cyclorama.
+  bool keyed = false;
+  Eigen::Vector3f key_colour{0.05f, 0.45f, 0.08f};
 
   void Check() const;  // throws u4d::Error on non-positive sizes
 };

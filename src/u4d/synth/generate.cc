@@ -391,6 +391,7 @@ SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& 
         forward_flow = flow.flow;
       }
       ApplyFloorShadows(cameras[f][v], rv.depth, rv.instance, shadows, options.effects, &rv.color);
+      ApplySpill(rv.instance, options.effects, &rv.color);
       ApplyMotionBlur(forward_flow, rv.instance, options.effects, &rv.color);
       WritePng(dir / layout::Image(name, f), rv.color, options.png_compression);
 
@@ -459,6 +460,17 @@ SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& 
   WriteCapture(capture, dir);
   summary.seconds = total_timer.Seconds();
   return summary;
+}
+
+void UseKeyedStage(SynthOptions* o) {
+  o->environment.keyed = true;
+  o->effects.spill_strength = 0.3;
+  o->effects.shadow_strength = std::max(o->effects.shadow_strength, 0.45);
+  // The spill has the colour of the backdrop as the camera sees it (its
+  // albedo through the renderer's gamma).
+  for (int c = 0; c < 3; ++c)
+    o->effects.spill_colour[c] =
+        255.0f * std::pow(o->environment.key_colour[c], 1.0f / static_cast<float>(o->render.gamma));
 }
 
 SynthOptions SmallHandshakeOptions(int num_views, int width, int height, int num_frames) {

@@ -97,6 +97,11 @@ struct SynthSummary {
 SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& dir,
                                    bool progress = false);
 
+// Makes `o`'s stage a keyed one (a green screen): EnvironmentOptions::keyed,
+// spill of the backdrop's colour on the people (ImageEffectsOptions spill,
+// strength 0.3) and soft floor shadows (strength at least 0.45).
+void UseKeyedStage(SynthOptions* o);
+
 // For tests and benchmarks: the handshake preset at a small size, without
 // GT meshes (set write_meshes to get them).
 SynthOptions SmallHandshakeOptions(int num_views, int width, int height, int num_frames);

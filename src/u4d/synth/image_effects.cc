@@ -21,6 +21,36 @@ void ImageEffectsOptions::Check() const {
             "ImageEffectsOptions.shadow_softness: expected >= 0 metres, got {}", shadow_softness);
   U4D_CHECK(std::isfinite(shadow_cell) && shadow_cell >= 0.001 && shadow_cell <= 0.2,
             "ImageEffectsOptions.shadow_cell: expected 0.001-0.2 metres, got {}", shadow_cell);
+  U4D_CHECK(std::isfinite(spill_strength) && spill_strength >= 0 && spill_strength <= 1,
+            "ImageEffectsOptions.spill_strength: expected 0-1, got {}", spill_strength);
+  U4D_CHECK(std::isfinite(spill_width_px) && spill_width_px > 0,
+            "ImageEffectsOptions.spill_width_px: expected > 0, got {}", spill_width_px);
+  U4D_CHECK(
+      spill_colour.minCoeff() >= 0 && spill_colour.maxCoeff() <= 255 && spill_colour.sum() > 0,
+      "ImageEffectsOptions.spill_colour: expected 8-bit BGR, not black");
+}
+
+void ApplySpill(const cv::Mat& instance, const ImageEffectsOptions& options, cv::Mat* color) {
+  if (options.spill_strength <= 0) return;
+  U4D_CHECK(color != nullptr && color->type() == CV_8UC3 && instance.type() == CV_16UC1 &&
+                instance.size() == color->size(),
+            "ApplySpill: expected a BGR image and a CV_16UC1 instance image of its size");
+  cv::Mat person = instance > 0, distance;
+  cv::distanceTransform(person, distance, cv::DIST_L2, 3);
+  const Eigen::Vector3f key = options.spill_colour / options.spill_colour.sum();
+  for (int y = 0; y < color->rows; ++y) {
+    cv::Vec3b* c = color->ptr<cv::Vec3b>(y);
+    const float* d = distance.ptr<float>(y);
+    const uint8_t* p = person.ptr<uint8_t>(y);
+    for (int x = 0; x < color->cols; ++x) {
+      if (!p[x]) continue;
+      const float s = static_cast<float>(options.spill_strength) *
+                      (0.4f + 0.6f * std::exp(-d[x] / static_cast<float>(options.spill_width_px)));
+      const float sum = static_cast<float>(c[x][0]) + c[x][1] + c[x][2];
+      for (int k = 0; k < 3; ++k)
+        c[x][k] = cv::saturate_cast<uint8_t>(c[x][k] + s * (key[k] * sum - c[x][k]));
+    }
+  }
 }
 
 double FloorShadowMap::CoverageAt(double x, double z) const {

@@ -29,7 +29,15 @@ struct ImageEffectsOptions {
   double shadow_strength = 0;
   double shadow_softness = 0.08;
   double shadow_cell = 0.01;  // metres per cell of the floor's shadow map
-  void Check() const;         // throws u4d::Error naming the field
+  // Spill (a keyed stage: the backdrop's light reflected on the people): a
+  // person pixel's colour c moves towards spill_colour scaled to c's
+  // brightness (r + g + b), by spill_strength x (0.4 + 0.6 exp(-d /
+  // spill_width_px)), d its distance in pixels to the nearest pixel that is
+  // not a person: strongest at the silhouette's edge. 0 disables.
+  double spill_strength = 0;
+  double spill_width_px = 6.0;
+  Eigen::Vector3f spill_colour{65, 177, 81};  // 8-bit BGR of the lit backdrop
+  void Check() const;                         // throws u4d::Error naming the field
 };
 
 // The people's shadow on the floor y = 0 at one instant: coverage in [0, 1]
@@ -53,6 +61,10 @@ FloorShadowMap MakeFloorShadowMap(const SceneFrame& frame, const Eigen::Vector3d
 void ApplyFloorShadows(const Camera& camera, const cv::Mat& depth, const cv::Mat& instance,
                        const FloorShadowMap& shadows, const ImageEffectsOptions& options,
                        cv::Mat* color);
+
+// Adds the backdrop's spill (above) to the person pixels (instance != 0) of
+// `color`. No-op when spill_strength is 0.
+void ApplySpill(const cv::Mat& instance, const ImageEffectsOptions& options, cv::Mat* color);
 
 // Blurs the person pixels (instance != 0) of `color` along `flow` (CV_32FC2,
 // pixels to t+1; non-finite = none). No-op when the shutter is 0 or the flow

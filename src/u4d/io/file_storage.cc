@@ -1,0 +1,100 @@
+#include "u4d/io/file_storage.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+#include <opencv2/core.hpp>
+
+#include "u4d/util/check.h"
+
+namespace u4d {
+namespace {
+
+// Appends the numbers of a number or (nested) sequence node; false when the
+// node holds anything else.
+bool AppendSequence(const cv::FileNode& node, std::vector<double>* out) {
+  if (node.isInt() || node.isReal()) {
+    out->push_back(static_cast<double>(node));
+    return true;
+  }
+  if (!node.isSeq()) return false;
+  for (const cv::FileNode& x : node)
+    if (!AppendSequence(x, out)) return false;
+  return true;
+}
+
+bool IsMatrix(const cv::FileNode& node) {
+  return node.isMap() && HasKey(node, "rows") && HasKey(node, "cols") && HasKey(node, "data");
+}
+
+std::string CountsText(const std::vector<int>& counts) {
+  std::string s;
+  for (size_t i = 0; i < counts.size(); ++i)
+    s += (i == 0 ? "" : (i + 1 == counts.size() ? " or " : ", ")) + std::to_string(counts[i]);
+  return s;
+}
+
+}  // namespace
+
+cv::FileStorage OpenFileStorage(const fs::path& path, const std::string& what) {
+  CheckFileExists(path, what);
+  cv::FileStorage storage;
+  try {
+    storage.open(path.string(), cv::FileStorage::READ);
+  } catch (const cv::Exception& e) {
+    ThrowError(fmt::format("{}: cannot parse as an OpenCV FileStorage {} ({})", path.string(), what,
+                           e.what()));
+  }
+  U4D_CHECK(storage.isOpened(), "{}: cannot open as an OpenCV FileStorage {}", path.string(), what);
+  return storage;
+}
+
+bool HasKey(const cv::FileNode& map, const std::string& key) {
+  if (!map.isMap()) return false;
+  const cv::FileNode node = map[key];
+  return !node.empty() && !node.isNone();
+}
+
+std::string FirstKey(const cv::FileNode& map, const std::vector<std::string>& keys) {
+  for (const std::string& key : keys)
+    if (HasKey(map, key)) return key;
+  return "";
+}
+
+std::vector<double> ReadNumbers(const cv::FileNode& map, const std::string& key,
+                                const std::vector<int>& counts, const std::string& context) {
+  U4D_CHECK(HasKey(map, key), "{}: missing key '{}'", context, key);
+  const cv::FileNode node = map[key];
+  std::vector<double> out;
+  if (IsMatrix(node)) {
+    cv::Mat m;
+    try {
+      node >> m;
+    } catch (const cv::Exception& e) {
+      ThrowError(fmt::format("{}: '{}' is not a readable matrix ({})", context, key, e.what()));
+    }
+    U4D_CHECK(!m.empty(), "{}: '{}' is an empty matrix", context, key);
+    cv::Mat d;
+    m.reshape(1, 1).convertTo(d, CV_64F);
+    out.assign(d.ptr<double>(), d.ptr<double>() + d.total());
+  } else {
+    U4D_CHECK(AppendSequence(node, &out) && !out.empty(),
+              "{}: '{}' must be a matrix or numbers, found another kind of value", context, key);
+  }
+  const int n = static_cast<int>(out.size());
+  U4D_CHECK(counts.empty() || std::find(counts.begin(), counts.end(), n) != counts.end(),
+            "{}: '{}' must have {} values, found {}", context, key, CountsText(counts), n);
+  for (const double v : out)
+    U4D_CHECK(std::isfinite(v), "{}: '{}' has a non-finite value", context, key);
+  return out;
+}
+
+int ReadInt(const cv::FileNode& map, const std::string& key, const std::string& context) {
+  const double v = ReadNumbers(map, key, {1}, context)[0];
+  U4D_CHECK(v == std::floor(v) && std::abs(v) < 1e9, "{}: '{}' must be a whole number, found {}",
+            context, key, v);
+  return static_cast<int>(v);
+}
+
+}  // namespace u4d
