@@ -154,7 +154,8 @@ int Run(const SceneFromGtArgs& a) {
       for (int f = 0; f < cap.num_frames; ++f) {
         const fs::path mesh = cap.root / layout::GtMesh(o.id, f);
         if (fs::exists(mesh)) {
-          WriteLabelledMesh(out / layout::SceneMesh(o.id, f), eval::ReadMesh(mesh), o.id);
+          WriteLabelledMesh(out / layout::SceneMesh(o.id, f), eval::ReadMesh(mesh), o.id,
+                            o.class_name);
           index.has_meshes = true;
         }
         mesh_progress.Tick();

@@ -456,6 +456,9 @@ std::string EvalReport::FormatTable() const {
     row("mean instance IoU", instances->MeanInstanceIoU(), "");
     row("mean class IoU", instances->MeanClassIoU(), "");
     for (const auto& [label, o] : instances->per_class) row("IoU " + label, o.IoU(), "");
+    if (instances->per_class_instances.size() > 1)
+      for (const auto& [label, c] : instances->per_class_instances)
+        row("instance IoU " + label, c.MeanIoU(), "");
     s += fmt::format("  {:<34} {:>10} / {} / {} / {}\n", "missed / false pos. / merged / split",
                      instances->missed, instances->false_positives, instances->merged,
                      instances->split);

@@ -199,10 +199,17 @@ void InstanceSegAccumulator::Add(const InstanceSegResult& r) {
   false_positives += r.false_positives;
   merged += r.merged;
   split += r.split;
-  for (const InstanceMatch& m : r.matches) sum_instance_iou += m.iou;
+  for (const InstanceMatch& m : r.matches) {
+    sum_instance_iou += m.iou;
+    ClassInstances& c = per_class_instances[m.label];
+    ++c.gt_instances;
+    c.sum_iou += m.iou;
+  }
   for (const auto& [label, o] : r.per_class) per_class[label].Add(o);
   foreground.Add(r.foreground);
 }
+
+double ClassInstances::MeanIoU() const { return gt_instances > 0 ? sum_iou / gt_instances : kNaN; }
 
 double InstanceSegAccumulator::MeanInstanceIoU() const {
   return num_gt > 0 ? sum_instance_iou / num_gt : kNaN;
@@ -226,8 +233,15 @@ double InstanceSegAccumulator::MeanClassIoU() const {
 nlohmann::json InstanceSegAccumulator::ToJson() const {
   auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
   nlohmann::json classes = nlohmann::json::object();
-  for (const auto& [label, o] : per_class)
-    classes[label] = {{"iou", num(o.IoU())}, {"intersection", o.intersection}, {"union", o.union_}};
+  for (const auto& [label, o] : per_class) {
+    const auto it = per_class_instances.find(label);
+    const ClassInstances inst = it == per_class_instances.end() ? ClassInstances{} : it->second;
+    classes[label] = {{"iou", num(o.IoU())},
+                      {"intersection", o.intersection},
+                      {"union", o.union_},
+                      {"gt_instances", inst.gt_instances},
+                      {"mean_instance_iou", num(inst.MeanIoU())}};
+  }
   return {{"images", num_images},
           {"gt_instances", num_gt},
           {"pred_instances", num_pred},

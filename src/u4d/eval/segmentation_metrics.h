@@ -93,8 +93,17 @@ double MaskIoU(const cv::Mat& a, const cv::Mat& b, const std::string& context = 
 InstanceSegResult EvaluateInstances(const InstanceMask& pred, const InstanceMask& gt,
                                     const InstanceSegOptions& options, const std::string& context);
 
+// The GT instances of one class and the sum of their per-instance IoU (matched
+// within the class when match_within_class).
+struct ClassInstances {
+  int gt_instances = 0;
+  double sum_iou = 0;
+  double MeanIoU() const;  // NaN when the class has no GT instance
+};
+
 // Sums over images. Mean instance IoU = sum of per-GT-instance IoU / number of
-// GT instances (instance-weighted); class IoU = sum_i |P_c n G_c| / sum_i |P_c u G_c|.
+// GT instances (instance-weighted); class IoU = sum_i |P_c n G_c| / sum_i |P_c u G_c|;
+// per class also the mean instance IoU of the GT instances of that class.
 struct InstanceSegAccumulator {
   int num_images = 0;
   int num_gt = 0, num_pred = 0;
@@ -105,6 +114,7 @@ struct InstanceSegAccumulator {
   bool touch_in_contact = false;
   double sum_instance_iou = 0;
   std::map<std::string, Overlap> per_class;
+  std::map<std::string, ClassInstances> per_class_instances;  // by the GT instance's class
   Overlap foreground;
 
   void Add(const InstanceSegResult& r);

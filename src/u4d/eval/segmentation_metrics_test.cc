@@ -118,6 +118,41 @@ TEST(Segmentation, PerClassIoUAndClassConstraint) {
   EXPECT_EQ(c.matches[0].iou, 0.0);
 }
 
+// Per-class instance IoU on hand-made masks: two people and a box, in two
+// images; in the second the box is predicted exactly but called a person, so
+// it has no match within its class (IoU 0) while the people keep theirs.
+TEST(Segmentation, PerClassInstanceIoUMatchesWithinTheClass) {
+  const InstanceMask gt = Labels(20, 2, {{1, 0, 0, 6, 2}, {2, 6, 0, 12, 2}, {3, 12, 0, 20, 2}},
+                                 {{1, "person", 1}, {2, "person", 1}, {3, "box", 1}});
+  // Image A: person 1 exact (IoU 1), person 2 two thirds (4/6), box 12/16.
+  const InstanceMask a = Labels(20, 2, {{5, 0, 0, 6, 2}, {6, 6, 0, 10, 2}, {7, 14, 0, 20, 2}},
+                                {{5, "person", 1}, {6, "person", 1}, {7, "box", 1}});
+  // Image B: both people exact, the box exact but labelled "person".
+  const InstanceMask b = Labels(20, 2, {{5, 0, 0, 6, 2}, {6, 6, 0, 12, 2}, {7, 12, 0, 20, 2}},
+                                {{5, "person", 1}, {6, "person", 1}, {7, "person", 1}});
+  InstanceSegAccumulator acc;
+  acc.Add(EvaluateInstances(a, gt, {}, "A"));
+  acc.Add(EvaluateInstances(b, gt, {}, "B"));
+  ASSERT_EQ(acc.per_class_instances.size(), 2u);
+  EXPECT_EQ(acc.per_class_instances.at("person").gt_instances, 4);
+  EXPECT_NEAR(acc.per_class_instances.at("person").MeanIoU(), (1 + 4.0 / 6 + 1 + 1) / 4, 1e-12);
+  EXPECT_EQ(acc.per_class_instances.at("box").gt_instances, 2);
+  EXPECT_NEAR(acc.per_class_instances.at("box").MeanIoU(), (12.0 / 16 + 0) / 2, 1e-12);
+  EXPECT_NEAR(acc.MeanInstanceIoU(), (1 + 4.0 / 6 + 1 + 1 + 12.0 / 16 + 0) / 6, 1e-12);
+  // eval.json keeps the pixel-pooled keys and adds the instance figures.
+  const nlohmann::json box = acc.ToJson()["per_class"]["box"];
+  EXPECT_NEAR(box["iou"].get<double>(), (12.0 + 0) / (16 + 16), 1e-12);
+  EXPECT_EQ(box["intersection"].get<int64_t>(), 12);
+  EXPECT_EQ(box["gt_instances"].get<int>(), 2);
+  EXPECT_NEAR(box["mean_instance_iou"].get<double>(), 0.375, 1e-12);
+  // Without the class constraint the mislabelled box in B matches exactly.
+  InstanceSegOptions any_class;
+  any_class.match_within_class = false;
+  InstanceSegAccumulator loose;
+  loose.Add(EvaluateInstances(b, gt, any_class, "B"));
+  EXPECT_NEAR(loose.per_class_instances.at("box").MeanIoU(), 1.0, 1e-12);
+}
+
 TEST(Segmentation, BadInputsThrowNamingTheContext) {
   const InstanceMask a = Labels(20, 2, {{1, 0, 0, 10, 2}}, {{1, "person", 1}});
   const InstanceMask b = Labels(21, 2, {{1, 0, 0, 10, 2}}, {{1, "person", 1}});

@@ -99,8 +99,9 @@ TEST_F(DepthFusionTest, LabelledPlyRoundTrip) {
   ASSERT_FALSE(fused.Empty());
   const fs::path path =
       test_util::FreshTestDir("fusion", "ply") / layout::SceneMesh(fused.object_id, 0);
-  WriteLabelledMesh(path, *fused.mesh, fused.object_id);
+  WriteLabelledMesh(path, *fused.mesh, fused.object_id, "traffic light");
   const LabelledMesh back = ReadLabelledMesh(path);
+  EXPECT_EQ(back.class_name, "traffic light");  // a class name may hold spaces
   const auto& a = *fused.mesh;
   const auto& b = *back.mesh;
   ASSERT_EQ(b.vertices_.size(), a.vertices_.size());
@@ -117,6 +118,11 @@ TEST_F(DepthFusionTest, LabelledPlyRoundTrip) {
   EXPECT_EQ(eval::ReadMesh(path).vertices_.size(), a.vertices_.size());
   test_util::ExpectErrorMentions([&] { ReadLabelledMesh(path.parent_path() / "missing.ply"); },
                                  {"missing.ply"});
+  // Without a class the header has none and none is read back.
+  WriteLabelledMesh(path, *fused.mesh, fused.object_id);
+  EXPECT_EQ(ReadLabelledMesh(path).class_name, "");
+  test_util::ExpectErrorMentions(
+      [&] { WriteLabelledMesh(path, *fused.mesh, 2, "box\nelement evil 1"); }, {"line break"});
 }
 
 TEST_F(DepthFusionTest, BadInputsThrowOrGiveEmpty) {

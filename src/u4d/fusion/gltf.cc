@@ -148,6 +148,7 @@ void WriteSegmentGlb(const fs::path& path, const AnimatedMesh& segment,
   gltf["meshes"] = nlohmann::json::array({mesh});
   gltf["extras"] = {
       {"object_id", segment.object_id}, {"first_frame", segment.first_frame}, {"fps", options.fps}};
+  if (!segment.class_name.empty()) gltf["extras"]["class"] = segment.class_name;
   if (n_targets > 0) {
     const int n_frames = segment.NumFrames();
     std::vector<float> times(n_frames), weights(static_cast<size_t>(n_frames) * n_targets, 0.f);
@@ -267,6 +268,7 @@ AnimatedMesh ReadSegmentGlb(const fs::path& path) {
   const nlohmann::json extras = gltf.value("extras", nlohmann::json::object());
   seg.object_id = extras.value("object_id", 0);
   seg.first_frame = extras.value("first_frame", 0);
+  seg.class_name = extras.value("class", std::string());
   seg.positions.push_back(r.Vec3(prim["attributes"]["POSITION"].get<int>()));
   const size_t nv = seg.positions[0].size();
   if (prim["attributes"].contains("COLOR_0")) {

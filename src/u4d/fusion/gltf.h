@@ -9,6 +9,8 @@
 // target k-1 (POSITION deltas, with min/max). One animation "play" drives the
 // node's morph weights with STEP interpolation: at time k / fps the weights
 // are one-hot on target k-1 (all zero at k = 0), so frame k is shown exactly.
+// The root's "extras" hold object_id, first_frame, fps and, when the segment
+// has one, the object's "class".
 // Units: metres, world frame of the capture (glTF's +y up is not imposed).
 #pragma once
 
@@ -28,7 +30,7 @@ struct GltfOptions {
 void WriteSegmentGlb(const fs::path& path, const AnimatedMesh& segment, const GltfOptions& options);
 
 // Reads back a segment written by WriteSegmentGlb: triangles, colours (when
-// present), object id and first frame (from "extras"), and the positions of
+// present), object id, first frame and class (from "extras"), and the positions of
 // every frame (the base POSITION plus morph target k-1 for frame k, float
 // precision). tracked_fraction is not stored and comes back empty. Throws
 // u4d::Error naming the file when it is missing, truncated, not a binary

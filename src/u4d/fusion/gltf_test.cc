@@ -119,6 +119,7 @@ TEST(GltfTest, ReadsBackWhatWasWritten) {
   AnimatedMesh seg;
   seg.object_id = 7;
   seg.first_frame = 12;
+  seg.class_name = "box";
   seg.triangles = {{0, 1, 2}, {0, 2, 3}};
   seg.colors = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.5, 0.5, 0.5}};
   seg.positions.push_back({{0, 0, 3}, {1, 0, 3}, {1, 1, 3}, {0, 1, 3}});
@@ -131,6 +132,7 @@ TEST(GltfTest, ReadsBackWhatWasWritten) {
   const AnimatedMesh back = ReadSegmentGlb(dir / "7.glb");
   EXPECT_EQ(back.object_id, 7);
   EXPECT_EQ(back.first_frame, 12);
+  EXPECT_EQ(back.class_name, "box");
   EXPECT_EQ(back.triangles, seg.triangles);
   ASSERT_EQ(back.NumFrames(), 4);
   ASSERT_EQ(back.colors.size(), 4u);

@@ -27,17 +27,20 @@ uint8_t ToByte(double c) {
 
 }  // namespace
 
-void WriteLabelledMesh(const fs::path& path, const open3d::geometry::TriangleMesh& mesh,
-                       int label) {
-  WriteLabelledMesh(path, mesh, std::vector<int>(mesh.vertices_.size(), label));
+void WriteLabelledMesh(const fs::path& path, const open3d::geometry::TriangleMesh& mesh, int label,
+                       const std::string& class_name) {
+  WriteLabelledMesh(path, mesh, std::vector<int>(mesh.vertices_.size(), label), class_name);
 }
 
 void WriteLabelledMesh(const fs::path& path, const open3d::geometry::TriangleMesh& mesh,
-                       const std::vector<int>& labels) {
+                       const std::vector<int>& labels, const std::string& class_name) {
   const size_t nv = mesh.vertices_.size();
   U4D_CHECK(nv > 0, "WriteLabelledMesh {}: the mesh has no vertex", path.string());
   U4D_CHECK(labels.size() == nv, "WriteLabelledMesh {}: {} labels for {} vertices", path.string(),
             labels.size(), nv);
+  U4D_CHECK(class_name.find_first_of("\r\n") == std::string::npos,
+            "WriteLabelledMesh {}: the class name '{}' holds a line break", path.string(),
+            class_name);
   const bool normals = mesh.vertex_normals_.size() == nv;
   const bool colors = mesh.vertex_colors_.size() == nv;
   for (const Eigen::Vector3i& t : mesh.triangles_)
@@ -47,6 +50,7 @@ void WriteLabelledMesh(const fs::path& path, const open3d::geometry::TriangleMes
                 nv);
   std::string buf;
   buf += "ply\nformat binary_little_endian 1.0\ncomment written by u4d\n";
+  if (!class_name.empty()) buf += "comment class " + class_name + "\n";
   buf += "element vertex " + std::to_string(nv) + "\n";
   buf += "property float x\nproperty float y\nproperty float z\n";
   if (normals) buf += "property float nx\nproperty float ny\nproperty float nz\n";
@@ -149,7 +153,7 @@ LabelledMesh ReadLabelledMesh(const fs::path& path) {
   U4D_CHECK(data.rfind("ply", 0) == 0 && end != std::string::npos,
             "{}: not a PLY file (expected 'ply' ... 'end_header')", ctx);
   std::istringstream header(data.substr(0, end));
-  std::string line, format;
+  std::string line, format, class_name;
   std::vector<Element> elements;
   while (std::getline(header, line)) {
     std::istringstream ls(line);
@@ -157,6 +161,9 @@ LabelledMesh ReadLabelledMesh(const fs::path& path) {
     ls >> kw;
     if (kw == "format") {
       ls >> format;
+    } else if (kw == "comment" && line.rfind("comment class ", 0) == 0) {
+      class_name = line.substr(std::strlen("comment class "));
+      if (!class_name.empty() && class_name.back() == '\r') class_name.pop_back();
     } else if (kw == "element") {
       Element e;
       ls >> e.name >> e.count;
@@ -178,6 +185,7 @@ LabelledMesh ReadLabelledMesh(const fs::path& path) {
   Reader in(data, end + std::strlen("end_header\n"), format == "ascii", ctx);
 
   LabelledMesh out;
+  out.class_name = class_name;
   out.mesh = std::make_shared<open3d::geometry::TriangleMesh>();
   auto& m = *out.mesh;
   bool has_vertices = false;

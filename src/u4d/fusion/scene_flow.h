@@ -42,6 +42,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -95,7 +96,8 @@ TrackResult TrackVertices(const std::vector<Eigen::Vector3d>& vertices,
 // A mesh of fixed topology over consecutive frames.
 struct AnimatedMesh {
   int object_id = 0;
-  int first_frame = 0;                                  // frame of positions[0]
+  int first_frame = 0;     // frame of positions[0]
+  std::string class_name;  // the object's class (glTF extras "class"); empty = not known
   std::vector<Eigen::Vector3i> triangles;               // shared by all frames
   std::vector<Eigen::Vector3d> colors;                  // RGB in [0,1] per vertex (or empty)
   std::vector<std::vector<Eigen::Vector3d>> positions;  // per frame, per vertex, world

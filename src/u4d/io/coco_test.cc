@@ -177,6 +177,33 @@ TEST(Coco, OverlapRuleHigherScoreThenSmallerArea) {
   EXPECT_EQ(cv::countNonZero(m.ids == 1), 64);
 }
 
+// category_id -> the category's name: the class every later stage carries
+// (docs/formats.md); a category filter keeps one class.
+TEST(Coco, CategoryIdsBecomeClassNames) {
+  CocoFile coco;
+  coco.context = "synthetic";
+  coco.images = {{1, "a.png", 10, 10}};
+  coco.categories = {{1, "person"}, {44, "bottle"}};
+  CocoAnnotation person;
+  person.image_id = 1;
+  person.category_id = 1;
+  person.polygons = {{0, 0, 4, 0, 4, 8, 0, 8}};
+  CocoAnnotation bottle = person;
+  bottle.category_id = 44;
+  bottle.polygons = {{6, 2, 8, 2, 8, 6, 6, 6}};
+  coco.annotations = {person, bottle};
+  const InstanceMask m = CocoInstanceMask(coco, coco.images[0]);
+  ASSERT_EQ(m.instances.size(), 2u);
+  EXPECT_EQ(m.instances[0].label, "person");
+  EXPECT_EQ(m.instances[1].label, "bottle");
+  EXPECT_EQ(cv::countNonZero(m.ids == 2), 8);
+  CocoMaskOptions only;
+  only.category = "bottle";
+  const InstanceMask b = CocoInstanceMask(coco, coco.images[0], only);
+  ASSERT_EQ(b.instances.size(), 1u);
+  EXPECT_EQ(b.instances[0].label, "bottle");
+}
+
 TEST(Coco, ResultsRoundTripThroughCompressedRle) {
   U4D_SKIP_WITHOUT_SHARED_DATA(kCocoJson);
   const CocoFile coco = ReadCocoFile(kCocoJson);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 #include <map>
+#include <set>
 
 #include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
@@ -193,7 +194,9 @@ std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
       num_labels = std::max(num_labels, id + 1);
     }
   std::vector<PersonPose> people;
+  std::set<int> person_ids;
   for (const Pose3d& p : data.poses_t) {
+    person_ids.insert(p.person_id);
     PersonPose person;
     person.object_id = p.person_id;
     person.at_t = p;
@@ -243,22 +246,10 @@ std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
         scaled.displacement = s * sm.displacement;
         in.sparse.push_back(scaled);
       }
-    if (!by_poses) {
-      // Regions: the objects' masks; depth ranges as given.
-      for (const auto& [id, range] : data.object_depth_ranges[v]) {
-        JointObject obj;
-        obj.id = id;
-        obj.region = in.initial_labels == id;
-        if (cv::countNonZero(obj.region) == 0) continue;
-        obj.depth_near = range.first;
-        obj.depth_far = range.second;
-        in.objects.push_back(obj);
-      }
-      return;
-    }
-    // Regions: instances plus capsules; depth ranges from the joints.
-    const PosePriorMap capsules =
-        RenderPosePrior(cam, has_next ? cams_t1[v] : cam, images_t[v], people, options.pose);
+    // People: instances plus capsules; depth ranges from the joints.
+    const PosePriorMap capsules = by_poses ? RenderPosePrior(cam, has_next ? cams_t1[v] : cam,
+                                                             images_t[v], people, options.pose)
+                                           : PosePriorMap{};
     for (const PersonPose& person : people) {
       JointObject obj;
       obj.id = person.object_id;
@@ -274,6 +265,17 @@ std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
       obj.depth_far = zmax + options.depth_margin_m;
       in.objects.push_back(obj);
     }
+    // Objects without a pose: their masks are their regions; depth ranges as given.
+    if (v < static_cast<int>(data.object_depth_ranges.size()))
+      for (const auto& [id, range] : data.object_depth_ranges[v]) {
+        JointObject obj;
+        obj.id = id;
+        obj.region = in.initial_labels == id;
+        if (cv::countNonZero(obj.region) == 0 || person_ids.count(id)) continue;
+        obj.depth_near = range.first;
+        obj.depth_far = range.second;
+        in.objects.push_back(obj);
+      }
   });
   if (options.hull.enabled) AddHullSupport(cams_t, options.hull, &inputs);
   return inputs;

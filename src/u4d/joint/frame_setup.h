@@ -18,6 +18,10 @@
 // must then hold object ids, with each view's depth ranges in
 // `object_depth_ranges` (the pipeline's cross-view association,
 // features/object_regions.h); the pose term has nothing to act on.
+// With poses, `object_depth_ranges` may add objects that are not people (a
+// box, a chair: ids that no pose has): their regions are their masks (with
+// the hull support below), and the pose term, whose capsules are the
+// people's, does not act on them.
 //
 // With or without poses, each object's region in a view then also holds the
 // pixels its visual hull from the other views covers (hull_support.h), and
@@ -47,9 +51,9 @@ struct JointFrameData {
   // e.g. from AssignInstancesToPeople or a cross-view association), so they
   // are not assigned to people again.
   bool masks_are_object_ids = false;
-  // Without poses: per view, object id -> (depth_near, depth_far) in metres;
-  // the objects of a view are then its mask's ids that have a range here,
-  // and their regions are their masks.
+  // Per view, object id -> (depth_near, depth_far) in metres: the objects
+  // without a pose (all of them without poses; with poses, those that are
+  // not people), whose regions are their masks. Ids of people are ignored.
   std::vector<std::map<int, std::pair<double, double>>> object_depth_ranges;
 };
 

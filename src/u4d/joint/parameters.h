@@ -68,6 +68,8 @@ struct JointTerms {
 // listing the known ones.
 JointTerms AblationTerms(const std::string& name);
 const std::vector<std::string>& AblationNames();
+// The terms switched on in both `a` and `b`.
+JointTerms TermsOnInBoth(const JointTerms& a, const JointTerms& b);
 
 nlohmann::json ToJson(const JointWeights& weights);
 nlohmann::json ToJson(const JointTerms& terms);

@@ -230,6 +230,30 @@ FrameObjects ObjectsFromSparse(const std::vector<Camera>& cameras,
   return out;
 }
 
+FrameObjects ObjectsFromPosesAndOthers(
+    const std::vector<Camera>& cameras, const std::vector<cv::Mat>& images,
+    const std::vector<cv::Mat>& people_masks, const std::vector<cv::Mat>& other_masks,
+    const std::vector<Pose3d>& poses, const FrameSetupOptions& frame_options,
+    const SparseFrameOptions& sparse_options, const ObjectRegionOptions& region_options,
+    ObjectLinker* linker) {
+  FrameObjects out = ObjectsFromPoses(cameras, people_masks, poses, frame_options);
+  const bool any_other = std::any_of(other_masks.begin(), other_masks.end(), [](const cv::Mat& m) {
+    return !m.empty() && cv::countNonZero(m) > 0;
+  });
+  if (!any_other) return out;
+  const FrameObjects others =
+      ObjectsFromSparse(cameras, images, other_masks, sparse_options, region_options, linker);
+  out.centroids = others.centroids;
+  out.num_sparse_points = others.num_sparse_points;
+  out.depth_ranges = others.depth_ranges;
+  for (size_t v = 0; v < out.ids.size(); ++v) {
+    if (others.ids[v].empty() || cv::countNonZero(others.ids[v]) == 0) continue;
+    if (out.ids[v].empty()) out.ids[v] = cv::Mat::zeros(others.ids[v].size(), CV_16U);
+    others.ids[v].copyTo(out.ids[v], out.ids[v] == 0);
+  }
+  return out;
+}
+
 void WriteFrameObjects(const fs::path& out, const std::vector<std::string>& view_names, int frame,
                        const FrameObjects& objects) {
   U4D_CHECK(objects.ids.size() == view_names.size(), "WriteFrameObjects: {} views but {} masks",
@@ -251,7 +275,8 @@ void WriteFrameObjects(const fs::path& out, const std::vector<std::string>& view
                       {{"frame", frame},
                        {"objects", list},
                        {"num_sparse_points", objects.num_sparse_points},
-                       {"depth_ranges", ranges}});
+                       {"depth_ranges", ranges},
+                       {"classes", ClassVotesToJson(objects.class_votes)}});
 }
 
 FrameObjects ReadFrameObjects(const fs::path& out, const std::vector<std::string>& view_names,
@@ -268,6 +293,7 @@ FrameObjects ReadFrameObjects(const fs::path& out, const std::vector<std::string
     objects.centroids[static_cast<int>(JsonInteger(JsonGet<nlohmann::json>(o, "id", ctx), ctx,
                                                    "id"))] = Eigen::Vector3d(c[0], c[1], c[2]);
   }
+  if (j.contains("classes")) objects.class_votes = ClassVotesFromJson(j["classes"], ctx);
   const nlohmann::json ranges = JsonGet<nlohmann::json>(j, "depth_ranges", ctx);
   for (const std::string& name : view_names) {
     const fs::path png = out / layout::SceneInitialMask(name, frame);

@@ -33,7 +33,8 @@
 // Files (io/layout.h): initial/masks/<view>/<frame>.png (16-bit ids, an
 // absent file = no mask in that view) and initial/objects/<frame>.json
 // {"frame", "objects": [{"id", "centroid": [x,y,z] | null}],
-//  "depth_ranges": {"<view>": {"<id>": [near, far]}}}.
+//  "depth_ranges": {"<view>": {"<id>": [near, far]}},
+//  "classes": {"<id>": {"<class>": votes}}} ("classes" may be absent).
 #pragma once
 
 #include <map>
@@ -49,6 +50,7 @@
 #include "u4d/init/init.h"
 #include "u4d/io/poses.h"
 #include "u4d/joint/frame_setup.h"
+#include "u4d/pipeline/object_classes.h"
 #include "u4d/util/file.h"
 
 namespace u4d {
@@ -59,6 +61,9 @@ struct FrameObjects {
   std::vector<std::map<int, std::pair<double, double>>> depth_ranges;
   std::map<int, Eigen::Vector3d> centroids;  // object id -> world centroid (without poses)
   int num_sparse_points = 0;                 // points of the frame's sparse reconstruction
+  // Object id -> class -> views voting for it (object_classes.h); filled by
+  // the pipeline from the given masks' classes, empty without them.
+  ClassVotes class_votes;
 };
 
 // Identity state carried from frame to frame (no poses).
@@ -91,6 +96,20 @@ std::vector<cv::Mat> GroundPeopleFromDetections(const std::vector<Camera>& camer
 // With poses: `masks[v]` detector ids (empty = none) -> object ids.
 FrameObjects ObjectsFromPoses(const std::vector<Camera>& cameras, const std::vector<cv::Mat>& masks,
                               const std::vector<Pose3d>& poses, const FrameSetupOptions& options);
+
+// With poses and masks of several classes: the people from `people_masks`
+// (ObjectsFromPoses) and, from `other_masks` (the instances that are not
+// people: a box, a chair), the objects without a pose, associated across
+// views and linked through time as without poses (ObjectsFromSparse, ids from
+// `linker`, which the caller starts above every person id), with their depth
+// ranges. Where both claim a pixel the person keeps it. `other_masks` without
+// any instance pixel give exactly ObjectsFromPoses.
+FrameObjects ObjectsFromPosesAndOthers(
+    const std::vector<Camera>& cameras, const std::vector<cv::Mat>& images,
+    const std::vector<cv::Mat>& people_masks, const std::vector<cv::Mat>& other_masks,
+    const std::vector<Pose3d>& poses, const FrameSetupOptions& frame_options,
+    const SparseFrameOptions& sparse_options, const ObjectRegionOptions& region_options,
+    ObjectLinker* linker);
 
 // Without poses: see above. With `ids_alike_across_views` (masks whose id
 // is already the same person in every view, e.g. init.h's step 6) mask id k

@@ -27,6 +27,7 @@
 #include "u4d/io/visualize.h"
 #include "u4d/joint/parameters.h"
 #include "u4d/pipeline/initial_objects.h"
+#include "u4d/pipeline/object_classes.h"
 #include "u4d/pipeline/scene_outputs.h"
 #include "u4d/pipeline/view_stage.h"
 #include "u4d/pose/given_poses.h"
@@ -50,6 +51,7 @@ struct Context {
   PoseSource poses = PoseSource::kNone;
   RunLog log;
   FrameReader reader;
+  std::map<int, std::string> classes;  // object id -> class (object_classes.h)
 
   int NumFrames() const { return f1 - f0; }
   int NumViews() const { return cap.NumViews(); }
@@ -149,13 +151,13 @@ std::vector<std::vector<Pose3d>> ReadScenePoses(const Context& c) {
 
 // ---- initial objects ----
 
-std::vector<cv::Mat> ReadGivenMasks(Context& c, int frame) {
-  std::vector<cv::Mat> masks(c.NumViews());
+std::vector<InstanceMask> ReadGivenMasks(Context& c, int frame) {
+  std::vector<InstanceMask> masks(c.NumViews());
   for (int v = 0; v < c.NumViews(); ++v) {
     const fs::path png = c.cap.root / layout::Mask(c.names[v], frame);
     if (!fs::exists(png)) continue;
-    masks[v] = ReadInstanceMask(png, c.cap.root / layout::MaskInfo(c.names[v], frame)).ids;
-    CheckImageSize(masks[v], c.cap.views[v].CameraAt(frame).width,
+    masks[v] = ReadInstanceMask(png, c.cap.root / layout::MaskInfo(c.names[v], frame));
+    CheckImageSize(masks[v].ids, c.cap.views[v].CameraAt(frame).width,
                    c.cap.views[v].CameraAt(frame).height, png.string());
   }
   return masks;
@@ -175,7 +177,9 @@ int ComputeInitialObjects(Context& c, const std::vector<std::vector<Pose3d>>& po
       keys.push_back(stage.key);
     }
   }
-  ObjectLinker linker;
+  ObjectLinker linker;  // with poses it names the objects that are not people, after them
+  for (const auto& frame : poses)
+    for (const Pose3d& p : frame) linker.next_id = std::max(linker.next_id, p.person_id + 1);
   std::vector<Eigen::Vector3d> ground_people;  // the previous frame's, for given masks
   std::vector<int> empty_frames;
   Progress progress("initial", c.NumFrames(), c.o.progress);
@@ -187,16 +191,23 @@ int ComputeInitialObjects(Context& c, const std::vector<std::vector<Pose3d>>& po
     // The ground-plane step (init.h step 6) names people alike in every
     // view: unsupervised masks come from it, given masks go through it.
     const bool ground = UsesGroundOccupancy(c.o.init, static_cast<int>(cams.size()));
-    std::vector<cv::Mat> masks =
-        c.masks == MaskSource::kGiven
-            ? ReadGivenMasks(c, f)
-            : UnsupervisedInstanceMasks(cams, images, backgrounds, c.o.init, keys);
+    const std::vector<InstanceMask> given =
+        c.masks == MaskSource::kGiven ? ReadGivenMasks(c, f) : std::vector<InstanceMask>();
+    std::vector<cv::Mat> masks = IdImages(given);
+    if (c.masks == MaskSource::kUnsupervised)
+      masks = UnsupervisedInstanceMasks(cams, images, backgrounds, c.o.init, keys);
     if (c.masks == MaskSource::kGiven && !with_poses && ground)
       masks = GroundPeopleFromDetections(cams, masks, c.o.init, &ground_people);
-    const FrameObjects objects =
-        with_poses
+    // With poses, instances that are not people become objects without a pose.
+    FrameObjects objects =
+        !with_poses
+            ? ObjectsFromSparse(cams, images, masks, c.o.sparse, c.o.regions, &linker, ground)
+        : given.empty()
             ? ObjectsFromPoses(cams, masks, poses[k], c.o.frame_setup)
-            : ObjectsFromSparse(cams, images, masks, c.o.sparse, c.o.regions, &linker, ground);
+            : ObjectsFromPosesAndOthers(cams, images, IdImages(KeepInstances(given, true)),
+                                        IdImages(KeepInstances(given, false)), poses[k],
+                                        c.o.frame_setup, c.o.sparse, c.o.regions, &linker);
+    if (!given.empty()) objects.class_votes = VoteObjectClasses(objects.ids, given);
     WriteFrameObjects(c.out, c.names, f, objects);
     bool any = false;
     for (const cv::Mat& ids : objects.ids) any = any || (!ids.empty() && cv::countNonZero(ids) > 0);
@@ -363,7 +374,7 @@ SolvedFrame SolveFrame(Context& c, int f, const std::vector<std::vector<Pose3d>>
   }
   data.poses_t = poses[f - c.f0];
   data.masks_are_object_ids = true;
-  if (c.poses == PoseSource::kNone) data.object_depth_ranges = objects.depth_ranges;
+  data.object_depth_ranges = objects.depth_ranges;  // with poses: the objects that are not people
   data.sparse.resize(nv);
   for (int v = 0; v < nv; ++v) data.sparse[v] = SparseMotionsFromTracks(tracks, v, f);
 
@@ -371,8 +382,9 @@ SolvedFrame SolveFrame(Context& c, int f, const std::vector<std::vector<Pose3d>>
   solved.frame = f;
   double scale = 1;
   std::vector<JointViewInput> inputs;
-  // With poses, a frame where nobody was tracked has nothing to reconstruct.
-  const bool has_objects = c.poses == PoseSource::kNone || !data.poses_t.empty();
+  // With poses, a frame where nobody was tracked and nothing else found has nothing to reconstruct.
+  bool has_objects = c.poses == PoseSource::kNone || !data.poses_t.empty();
+  for (const auto& ranges : data.object_depth_ranges) has_objects = has_objects || !ranges.empty();
   if (has_objects) {
     inputs = MakeJointViewInputs(data, c.o.frame_setup, &scale);
   } else {
@@ -419,7 +431,7 @@ void WriteFrameMaps(const Context& c, const SolvedFrame& s) {
     r.flow = s.flow[v];
     const Camera& full = s.full_cameras[v];
     WriteViewMaps(c.out, c.names[v], s.frame, ToCameraSize(r, full.width, full.height, s.scale),
-                  s.full_images[v], c.o.picture_width);
+                  s.full_images[v], c.o.picture_width, c.classes);
   }
 }
 
@@ -448,10 +460,12 @@ void WriteFrameOutputs(const Context& c, const Segment& seg, const SolvedFrame& 
     const FusedMesh fused =
         FuseObject(current.cameras, current.depth, current.labels, current.images, id, c.o.fusion);
     if (fused.Empty()) continue;
-    WriteLabelledMesh(c.out / layout::SceneMesh(id, f), *fused.mesh, id);
+    WriteLabelledMesh(c.out / layout::SceneMesh(id, f), *fused.mesh, id,
+                      ObjectClass(c.classes, id));
     if (f == seg.first) {
       AnimatedMesh& a = animations[id];
       a.object_id = id;
+      a.class_name = ObjectClass(c.classes, id);
       a.first_frame = f;
       a.triangles = fused.mesh->triangles_;
       for (const Eigen::Vector3d& col : fused.mesh->vertex_colors_) a.colors.push_back(col);
@@ -576,7 +590,7 @@ void WriteIndex(const Context& c, const KeyframeSelection& sel, const std::vecto
         ids.insert(*id);  // stray entries (meshes/abc) are not objects
   for (int id : ids) {
     const cv::Vec3b col = InstanceColor(id);
-    index.objects.push_back({id, "person", {col[0], col[1], col[2]}});
+    index.objects.push_back({id, ObjectClass(c.classes, id), {col[0], col[1], col[2]}});
   }
   index.has_meshes = !ids.empty();
   for (size_t s = 0; s < sel.keyframes.size(); ++s) {
@@ -601,20 +615,6 @@ void WriteIndex(const Context& c, const KeyframeSelection& sel, const std::vecto
   index.has_eval = has_eval;
   index.stages_done = c.log.stages_done;
   WriteSceneIndex(c.out, index);
-}
-
-// The terms switched on in both `a` and `b`.
-JointTerms TermsOnInBoth(const JointTerms& a, const JointTerms& b) {
-  JointTerms t;
-  t.depth = a.depth && b.depth;
-  t.appearance = a.appearance && b.appearance;
-  t.semantic = a.semantic && b.semantic;
-  t.flow = a.flow && b.flow;
-  t.smooth = a.smooth && b.smooth;
-  t.contrast = a.contrast && b.contrast;
-  t.motion_reg = a.motion_reg && b.motion_reg;
-  t.pose = a.pose && b.pose;
-  return t;
 }
 
 // Refuses to mix two runs' results in one directory.
@@ -647,7 +647,8 @@ RunResult RunPipeline(const fs::path& capture_dir, const fs::path& scene_dir,
   // pose term's (joint.pose; frame_setup.pose is not an option of its own).
   RunOptions resolved = options;
   resolved.frame_setup.pose = options.joint.pose;
-  Context c{cap, scene_dir, resolved, options.first_frame, f1, {}, {}, {}, {}, FrameReader(cap)};
+  Context c{cap, scene_dir, resolved, options.first_frame, f1, {},
+            {},  {},        {},       FrameReader(cap),    {}};
   for (const CaptureView& v : cap.views) c.names.push_back(v.name);
   c.masks = ResolveMasks(cap, options.masks);
   c.poses = ResolvePoses(cap, options.poses);
@@ -684,6 +685,7 @@ RunResult RunPipeline(const fs::path& capture_dir, const fs::path& scene_dir,
   if (poses_done) poses = ReadScenePoses(c);
   RunStage(c, "initial", true, [&] { return ComputeInitialObjects(c, poses); });
   CheckNotEmpty(c);
+  c.classes = ReadRunObjectClasses(c.out, c.f0, c.f1);
   std::vector<TemporalTrack> tracks;
   const bool tracks_done = c.log.StageDone("tracks");
   RunStage(c, "tracks", true, [&] {

@@ -8,6 +8,7 @@
 #include "u4d/io/instance_mask.h"
 #include "u4d/io/layout.h"
 #include "u4d/io/visualize.h"
+#include "u4d/pipeline/object_classes.h"
 #include "u4d/util/check.h"
 
 namespace u4d {
@@ -35,14 +36,15 @@ ViewMaps EmptyViewMaps(int width, int height) {
 }
 
 void WriteViewMaps(const fs::path& out, const std::string& view, int frame, const ViewMaps& maps,
-                   const cv::Mat& image, int picture_width) {
+                   const cv::Mat& image, int picture_width,
+                   const std::map<int, std::string>& classes) {
   InstanceMask mask;
   mask.ids = maps.labels;
   std::set<int> ids;
   for (int y = 0; y < maps.labels.rows; ++y)
     for (int x = 0; x < maps.labels.cols; ++x)
       if (const int id = maps.labels.at<uint16_t>(y, x)) ids.insert(id);
-  for (int id : ids) mask.instances.push_back({id, "person", 1.0});
+  for (int id : ids) mask.instances.push_back({id, ObjectClass(classes, id), 1.0});
   WriteInstanceMask(out / layout::SceneInstances(view, frame),
                     out / layout::SceneInstancesInfo(view, frame), mask);
   WritePfm(out / layout::SceneDepth(view, frame), maps.depth);

@@ -3,6 +3,7 @@
 // resolution, the scene's maps have the camera's size.
 #pragma once
 
+#include <map>
 #include <string>
 
 #include <opencv2/core.hpp>
@@ -27,9 +28,11 @@ ViewMaps ToCameraSize(const JointViewResult& result, int width, int height, doub
 // All-background maps of the camera's size (a view where no object projects).
 ViewMaps EmptyViewMaps(int width, int height);
 
-// instances/ (+ .json, class "person"), depth/ (PFM), flow/ (.flo) and the
+// instances/ (+ .json, each id's class from `classes`, object_classes.h's
+// ObjectClass: "person" when not listed), depth/ (PFM), flow/ (.flo) and the
 // pictures image/instances/depth/flow (picture_width wide, 0 = full size).
 void WriteViewMaps(const fs::path& out, const std::string& view, int frame, const ViewMaps& maps,
-                   const cv::Mat& image, int picture_width);
+                   const cv::Mat& image, int picture_width,
+                   const std::map<int, std::string>& classes = {});
 
 }  // namespace u4d
