@@ -36,6 +36,7 @@ void AddHullSupport(const std::vector<Camera>& cameras, const HullSupportOptions
     if (objects.empty()) continue;
     in.hull_support = HullSupport(cameras, labels, static_cast<int>(v), objects, options);
     for (JointObject& obj : in.objects) obj.region |= in.hull_support == obj.id;
+    if (!options.colour_samples) continue;
     // E_a: the supported pixels are no background sample at t, and those well
     // inside the support are samples of their object.
     LabelledImage& at_t = in.appearance_training.front();

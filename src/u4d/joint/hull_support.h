@@ -18,8 +18,8 @@
 // are tested (and the map is 0 on the others); a pixel supported by several objects takes the
 // nearest one. The map widens the solve's region and relaxes E_sem there (the detector's
 // "background" at p is contradicted by the other views: E_sem does not
-// prefer it over o, and E_a's colour models sample it as o, not as the
-// background: frame_setup.cc), so E_a, E_c and E_d decide the label.
+// prefer it over o; with colour_samples E_a's colour models sample it as o,
+// not as the background: frame_setup.cc), so E_a, E_c and E_d decide the label.
 #pragma once
 
 #include <vector>
@@ -35,8 +35,13 @@ struct HullSupportOptions {
   int min_views = 3;          // other views that must put a point on the object
   int mask_tolerance_px = 2;  // the other views' object labels dilated by this (pixels)
   int depth_samples = 64;     // depths tested per ray, even in depth over the object's range
-  int max_side = 240;         // rays are cast at this longest side (the map is then upsampled)
-  void Check() const;         // throws u4d::Error naming the bad field
+  // E_a also samples the supported pixels as their object and not as the
+  // background. Off by default: it restores a part cut in every frame of the
+  // neighbourhood, but where touching people merge in the other views the
+  // samples carry the other person's and the gap's colours (more merges).
+  bool colour_samples = false;
+  int max_side = 240;  // rays are cast at this longest side (the map is then upsampled)
+  void Check() const;  // throws u4d::Error naming the bad field
 };
 
 // One object's depth range in the reference view.

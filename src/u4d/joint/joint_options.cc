@@ -25,6 +25,9 @@ void DeclareOptions(OptionRegistry& r, HullSupportOptions* o) {
   r.Add("mask_tolerance_px", &o->mask_tolerance_px,
         "the other views' object labels are dilated by this (working pixels)");
   r.Add("depth_samples", &o->depth_samples, "depths tested per ray over the object's range");
+  r.Add("colour_samples", &o->colour_samples,
+        "E_a samples the supported pixels as their object, not as background (restores a part cut "
+        "in every frame; more merges where touching people merge in the other views)");
   r.Add("max_side", &o->max_side, "rays are cast at this longest side (the map is upsampled)");
 }
 

@@ -230,7 +230,9 @@ TEST_F(JointViewSynthTest, TheSameFrameTwiceHasNoMotion) {
 // time, so E_sem's temporal maps do not restore it), the other views keep
 // it, and no pose is given (no capsules). The true masks stand in for the
 // detector elsewhere. With the objects' regions grown by the other views'
-// visual hull (FrameSetupOptions::hull) the solve gives the head back.
+// visual hull (FrameSetupOptions::hull, with colour_samples: the head's
+// colours are in no initial mask of the neighbourhood) the solve gives the
+// head back.
 TEST_F(JointViewSynthTest, AHeadCutFromOneViewsMasksComesBackFromTheOtherViews) {
   const Capture capture = ReadCapture(*dir_);
   FrameReader reader(capture);
@@ -268,6 +270,7 @@ TEST_F(JointViewSynthTest, AHeadCutFromOneViewsMasksComesBackFromTheOtherViews) 
   auto recovered = [&](bool hull) {
     FrameSetupOptions setup;
     setup.hull.enabled = hull;
+    setup.hull.colour_samples = hull;
     const JointViewResult r =
         SolveJointView(MakeJointViewInputs(data, setup, nullptr)[ref], options);
     return static_cast<double>(cv::countNonZero((r.labels == person) & cut_t)) /
