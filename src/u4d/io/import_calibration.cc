@@ -1,11 +1,11 @@
 #include "u4d/io/import_calibration.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <functional>
 #include <map>
-#include <regex>
 #include <set>
 #include <sstream>
 
@@ -41,13 +41,22 @@ std::vector<std::string> StartTags(const std::string& xml, const std::string& ta
   return out;
 }
 
+// The value of name="value" (after white space) in a start tag. Searched by
+// hand: std::regex recurses per character and overflows the stack on a long
+// tag.
 std::string Attribute(const std::string& tag_text, const std::string& name,
                       const std::string& context) {
-  const std::regex re("\\s" + name + "=\"([^\"]*)\"");
-  std::smatch m;
-  U4D_CHECK(std::regex_search(tag_text, m, re), "{}: missing attribute '{}' in {}", context, name,
-            tag_text.substr(0, 60));
-  return m[1].str();
+  const std::string key = name + "=\"";
+  for (size_t pos = tag_text.find(key); pos != std::string::npos;
+       pos = tag_text.find(key, pos + 1)) {
+    if (pos == 0 || !std::isspace(static_cast<unsigned char>(tag_text[pos - 1]))) continue;
+    const size_t begin = pos + key.size();
+    const size_t end = tag_text.find('"', begin);
+    if (end == std::string::npos) break;
+    return tag_text.substr(begin, end - begin);
+  }
+  ThrowError(
+      fmt::format("{}: missing attribute '{}' in {}", context, name, tag_text.substr(0, 60)));
 }
 
 double NumberAttribute(const std::string& tag_text, const std::string& name,
