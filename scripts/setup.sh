@@ -10,6 +10,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev libboost-graph-dev
   libcpp-httplib-dev chromium zlib1g-dev
   python3-matplotlib  # scripts/results.sh's scaling plot
+  clang libclang-rt-14-dev  # the libFuzzer targets (scripts/fuzz.sh, run by CI)
 )
 # The web viewer (viewer/) needs node and npm; any recent node (>= 18) will
 # do, so Debian's packages are installed only when no npm is on the PATH.

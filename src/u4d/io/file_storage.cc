@@ -42,7 +42,8 @@ cv::FileStorage OpenFileStorage(const fs::path& path, const std::string& what) {
   cv::FileStorage storage;
   try {
     storage.open(path.string(), cv::FileStorage::READ);
-  } catch (const cv::Exception& e) {
+  } catch (const std::exception& e) {
+    // cv::Exception, and std::length_error from OpenCV's parser on some input.
     ThrowError(fmt::format("{}: cannot parse as an OpenCV FileStorage {} ({})", path.string(), what,
                            e.what()));
   }
@@ -68,10 +69,16 @@ std::vector<double> ReadNumbers(const cv::FileNode& map, const std::string& key,
   const cv::FileNode node = map[key];
   std::vector<double> out;
   if (IsMatrix(node)) {
+    // OpenCV allocates rows x cols before it reads the data: a huge or
+    // garbled "rows" must be an error, not a huge allocation.
+    const cv::FileNode rows = node["rows"], cols = node["cols"], data = node["data"];
+    U4D_CHECK(rows.isInt() && cols.isInt() && data.isSeq() && int(rows) >= 1 && int(cols) >= 1 &&
+                  int64_t(int(rows)) * int(cols) <= int64_t(data.size()),
+              "{}: '{}' must be a matrix (rows, cols and as many data values)", context, key);
     cv::Mat m;
     try {
       node >> m;
-    } catch (const cv::Exception& e) {
+    } catch (const std::exception& e) {
       ThrowError(fmt::format("{}: '{}' is not a readable matrix ({})", context, key, e.what()));
     }
     U4D_CHECK(!m.empty(), "{}: '{}' is an empty matrix", context, key);

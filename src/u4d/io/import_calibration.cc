@@ -1,11 +1,11 @@
 #include "u4d/io/import_calibration.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <functional>
 #include <map>
-#include <regex>
 #include <set>
 #include <sstream>
 
@@ -41,13 +41,22 @@ std::vector<std::string> StartTags(const std::string& xml, const std::string& ta
   return out;
 }
 
+// The value of name="value" (after white space) in a start tag. Searched by
+// hand: std::regex recurses per character and overflows the stack on a long
+// tag.
 std::string Attribute(const std::string& tag_text, const std::string& name,
                       const std::string& context) {
-  const std::regex re("\\s" + name + "=\"([^\"]*)\"");
-  std::smatch m;
-  U4D_CHECK(std::regex_search(tag_text, m, re), "{}: missing attribute '{}' in {}", context, name,
-            tag_text.substr(0, 60));
-  return m[1].str();
+  const std::string key = name + "=\"";
+  for (size_t pos = tag_text.find(key); pos != std::string::npos;
+       pos = tag_text.find(key, pos + 1)) {
+    if (pos == 0 || !std::isspace(static_cast<unsigned char>(tag_text[pos - 1]))) continue;
+    const size_t begin = pos + key.size();
+    const size_t end = tag_text.find('"', begin);
+    if (end == std::string::npos) break;
+    return tag_text.substr(begin, end - begin);
+  }
+  ThrowError(
+      fmt::format("{}: missing attribute '{}' in {}", context, name, tag_text.substr(0, 60)));
 }
 
 double NumberAttribute(const std::string& tag_text, const std::string& name,
@@ -189,7 +198,7 @@ std::vector<NamedCamera> ReadQualisysCalibration(const fs::path& qca_path) {
     const std::string block = xml.substr(pos, end - pos);
     pos = end;
     const auto camera_tag = StartTags(block, "camera");
-    U4D_ASSERT(!camera_tag.empty());
+    U4D_CHECK(!camera_tag.empty(), "{}: a <camera> start tag is not closed", ctx);
     NamedCamera nc;
     nc.name = Attribute(camera_tag[0], "serial", ctx);
     const std::string cctx = fmt::format("{}: camera {}", ctx, nc.name);
@@ -352,8 +361,9 @@ std::vector<NamedCamera> ReadMiddleburyCalibration(const fs::path& par_path, int
   std::string token;
   U4D_CHECK(static_cast<bool>(in >> token), "{}: empty file", ctx);
   const double count_d = ParseFinite(token, ctx, "the image count");
+  U4D_CHECK(count_d >= 1 && count_d <= 1e6 && count_d == std::floor(count_d),
+            "{}: bad image count '{}' (an integer in [1, 1000000])", ctx, token);
   const int count = static_cast<int>(count_d);
-  U4D_CHECK(count > 0 && count == count_d, "{}: bad image count '{}'", ctx, token);
   std::vector<NamedCamera> out;
   for (int i = 0; i < count; ++i) {
     NamedCamera nc;
@@ -406,9 +416,9 @@ Capture ImportMiddlebury(const fs::path& source, const ImportOptions& options) {
 
 // ---- EasyMocap ---------------------------------------------------------------
 
-std::vector<NamedCamera> ReadEasyMocapCalibration(const fs::path& intri_path,
-                                                  const fs::path& extri_path,
-                                                  const fs::path& image_root) {
+static std::vector<NamedCamera> EasyMocapCameras(const fs::path& intri_path,
+                                                 const fs::path& extri_path,
+                                                 const fs::path& image_root) {
   const cv::FileStorage intri_file = OpenFileStorage(intri_path, "EasyMocap intrinsics");
   const cv::FileStorage extri_file = OpenFileStorage(extri_path, "EasyMocap extrinsics");
   const cv::FileNode intri = intri_file.root(), extri = extri_file.root();
@@ -445,6 +455,19 @@ std::vector<NamedCamera> ReadEasyMocapCalibration(const fs::path& intri_path,
     out.push_back(std::move(nc));
   }
   return out;
+}
+
+std::vector<NamedCamera> ReadEasyMocapCalibration(const fs::path& intri_path,
+                                                  const fs::path& extri_path,
+                                                  const fs::path& image_root) {
+  // OpenCV's FileNode accessors fail with cv::Exception on a node of another
+  // kind than asked (a map expected, a list found).
+  try {
+    return EasyMocapCameras(intri_path, extri_path, image_root);
+  } catch (const cv::Exception& e) {
+    ThrowError(fmt::format("{}, {}: not an EasyMocap calibration ({})", intri_path.string(),
+                           extri_path.string(), e.what()));
+  }
 }
 
 Capture ImportEasyMocap(const fs::path& dir, const ImportOptions& options) {

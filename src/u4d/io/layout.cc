@@ -49,6 +49,7 @@ fs::path GtMesh(int object_id, int frame) {
 fs::path SceneIndex() { return "scene.json"; }
 fs::path SceneCalibration() { return "calibration.json"; }
 fs::path SceneParams() { return "params.json"; }
+fs::path SceneInputs() { return "inputs.json"; }
 fs::path SceneKeyframes() { return "keyframes.json"; }
 fs::path SceneEval() { return "eval.json"; }
 fs::path SceneConsistency() { return "consistency.json"; }

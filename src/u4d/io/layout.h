@@ -36,6 +36,7 @@ fs::path GtContacts();                                         // gt/contacts.js
 fs::path SceneIndex();        // scene.json: frames, views, objects, files, stages done
 fs::path SceneCalibration();  // calibration.json (as in a capture)
 fs::path SceneParams();       // params.json: every option used
+fs::path SceneInputs();       // inputs.json: the capture's fingerprint (io/input_fingerprint.h)
 fs::path SceneKeyframes();    // keyframes.json
 fs::path SceneEval();         // eval.json (only with ground truth)
 fs::path SceneConsistency();  // consistency.json (figures that need no ground truth)

@@ -21,6 +21,7 @@
 #include "u4d/io/capture.h"
 #include "u4d/io/frame_reader.h"
 #include "u4d/io/image_io.h"
+#include "u4d/io/input_fingerprint.h"
 #include "u4d/io/instance_mask.h"
 #include "u4d/io/layout.h"
 #include "u4d/io/scene_index.h"
@@ -29,6 +30,7 @@
 #include "u4d/pipeline/initial_objects.h"
 #include "u4d/pipeline/object_classes.h"
 #include "u4d/pipeline/scene_outputs.h"
+#include "u4d/pipeline/scene_resume.h"
 #include "u4d/pipeline/view_stage.h"
 #include "u4d/pose/given_poses.h"
 #include "u4d/pose/pose_smoothing.h"
@@ -617,20 +619,6 @@ void WriteIndex(const Context& c, const KeyframeSelection& sel, const std::vecto
   WriteSceneIndex(c.out, index);
 }
 
-// Refuses to mix two runs' results in one directory.
-void CheckResumable(const fs::path& out, const nlohmann::json& params, bool resume) {
-  const fs::path path = out / layout::SceneParams();
-  if (!resume || !fs::exists(path)) return;
-  const nlohmann::json before = RunOptions::ResumeKey(ReadJsonFile(path));
-  const nlohmann::json now = RunOptions::ResumeKey(params);
-  if (before == now) return;
-  const nlohmann::json diff = nlohmann::json::diff(before, now);
-  ThrowError(fmt::format(
-      "{} holds a run with other options or another capture (first difference: {} {}); write to "
-      "a new directory, or run with --no-resume to recompute everything there",
-      out.string(), diff.at(0).value("op", ""), diff.at(0).value("path", "")));
-}
-
 }  // namespace
 
 RunResult RunPipeline(const fs::path& capture_dir, const fs::path& scene_dir,
@@ -661,7 +649,13 @@ RunResult RunPipeline(const fs::path& capture_dir, const fs::path& scene_dir,
   params["capture"] = fs::absolute(cap.root).lexically_normal().string();
   params["masks_used"] = ToString(c.masks);
   params["poses_used"] = ToString(c.poses);
-  CheckResumable(scene_dir, params, options.resume);
+  const InputFingerprint inputs = FingerprintCapture(cap);
+  if (options.resume) {
+    CheckResumable(scene_dir, params, inputs);
+    RemoveInterruptedWrites(scene_dir);
+  } else {
+    RemoveSceneOutputs(scene_dir);
+  }
   fs::create_directories(scene_dir);
   if (options.resume && fs::exists(scene_dir / layout::SceneRunLog()))
     c.log = ReadRunLog(scene_dir);
@@ -671,6 +665,8 @@ RunResult RunPipeline(const fs::path& capture_dir, const fs::path& scene_dir,
   c.log.stages.clear();
   c.log.segment_parts.clear();
   if (!options.resume) c.log.stages_done.clear(), c.log.segments_done.clear();
+  // inputs.json first: a scene with params.json always has it.
+  WriteJsonFileAtomic(scene_dir / layout::SceneInputs(), FingerprintToJson(inputs));
   WriteJsonFileAtomic(scene_dir / layout::SceneParams(), params);
   WriteJsonFileAtomic(scene_dir / layout::SceneCalibration(), CalibrationToJson(cap));
   fmt::print("u4d run: {} frames [{}, {}) of {} views; masks: {}; poses: {}\n", c.NumFrames(), c.f0,

@@ -20,9 +20,14 @@
 // meshes being tracked are held, so it stays flat with the capture's length.
 //
 // Resume: run.json (run_log.h) records the stages and segments finished; a
-// run into a scene directory with the same params.json skips them. A scene
-// written with other options is refused (u4d::Error) unless
-// RunOptions::resume is false, when everything is recomputed.
+// run into a scene directory written from the same options (params.json) and
+// the same inputs (inputs.json, the capture's fingerprint) skips them. A
+// scene written with other options, or from a capture whose calibration,
+// masks, poses or frames changed since, is refused (u4d::Error naming the
+// option or the files, scene_resume.h) unless RunOptions::resume is false,
+// when the earlier run's outputs are removed and everything is recomputed.
+// A resumed run first removes the temporary files of the writes a killed run
+// left (each file is written to a temporary name and renamed into place).
 //
 // Nothing found: when the initial stage finds no object in any view of any
 // frame, the run throws u4d::Error saying what would help (masks, poses),

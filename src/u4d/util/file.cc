@@ -1,5 +1,6 @@
 #include "u4d/util/file.h"
 
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -90,6 +91,15 @@ void WriteAtomically(const fs::path& path, const std::function<void(const fs::pa
     fs::remove(tmp, ec);
     throw;
   }
+}
+
+bool IsAtomicWriteTemporary(const fs::path& path) {
+  const std::string name = path.filename().string();
+  const size_t at = name.rfind(".tmp-");
+  if (at == std::string::npos) return false;
+  size_t end = at + 5;
+  while (end < name.size() && std::isdigit(static_cast<unsigned char>(name[end]))) ++end;
+  return end > at + 5 && (end == name.size() || name[end] == '.');
 }
 
 void WriteTextFileAtomic(const fs::path& path, const std::string& text) {

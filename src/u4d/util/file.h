@@ -39,6 +39,10 @@ nlohmann::json ReadJsonFile(const fs::path& path);
 // removed and the previous content of `path` (if any) is untouched.
 void WriteAtomically(const fs::path& path, const std::function<void(const fs::path&)>& write_to);
 
+// True for the name of WriteAtomically's temporary file ("<stem>.tmp-<pid>"
+// followed by the extension), which a killed process leaves behind.
+bool IsAtomicWriteTemporary(const fs::path& path);
+
 void WriteTextFileAtomic(const fs::path& path, const std::string& text);
 void WriteJsonFileAtomic(const fs::path& path, const nlohmann::json& json, int indent = 1);
 

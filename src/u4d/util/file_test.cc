@@ -1,5 +1,7 @@
 #include "u4d/util/file.h"
 
+#include <fstream>
+
 #include <gtest/gtest.h>
 
 namespace u4d {
@@ -61,6 +63,21 @@ TEST(File, JsonGetReportsMissingAndWrongType) {
 
 namespace u4d {
 namespace {
+
+// The names WriteAtomically gives its temporary files, and no others.
+TEST(File, AtomicWriteTemporariesAreRecognised) {
+  fs::path seen;
+  WriteAtomically(TempDir() / "000001.png", [&](const fs::path& tmp) {
+    seen = tmp;
+    std::ofstream(tmp) << "x";
+  });
+  EXPECT_TRUE(IsAtomicWriteTemporary(seen)) << seen;
+  EXPECT_TRUE(IsAtomicWriteTemporary("scene.tmp-42.json"));
+  EXPECT_TRUE(IsAtomicWriteTemporary("segment.tmp-7"));
+  for (const char* name :
+       {"000001.png", "a.tmp-.png", "a.tmp-x.png", "a.tmp-12x.png", "tmp-12.png"})
+    EXPECT_FALSE(IsAtomicWriteTemporary(name)) << name;
+}
 
 TEST(File, ParseIndexNameAcceptsOnlyDecimalIndices) {
   EXPECT_EQ(ParseIndexName("7"), 7);
