@@ -122,11 +122,14 @@ cv::Mat HullSupport(const std::vector<Camera>& cameras, const std::vector<cv::Ma
         const int x = std::clamp(static_cast<int>(std::lround(pixel.x())), 0, cam.width - 1);
         const int y = std::clamp(static_cast<int>(std::lround(pixel.y())), 0, cam.height - 1);
         if (own.at<uint16_t>(y, x) != 0) continue;  // only the view's background is tested
+        // The ray's point at depth z is centre + z * step (undistorted once per ray).
+        const Eigen::Vector3d centre = cam.Center();
+        const Eigen::Vector3d step = cam.Unproject(pixel, 1.0) - centre;
         for (int k = 0; k < options.depth_samples; ++k) {
           const double z =
               obj.depth_near + (obj.depth_far - obj.depth_near) * k / (options.depth_samples - 1);
           if (z >= nearest.at<double>(gy, gx)) break;
-          if (!Supported(voters, cam.Unproject(pixel, z), options.min_views)) continue;
+          if (!Supported(voters, centre + z * step, options.min_views)) continue;
           support.at<uint16_t>(gy, gx) = static_cast<uint16_t>(obj.id);
           nearest.at<double>(gy, gx) = z;
           break;
