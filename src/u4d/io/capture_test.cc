@@ -6,6 +6,7 @@
 #include "u4d/io/image_io.h"
 #include "u4d/io/instance_mask.h"
 #include "u4d/io/layout.h"
+#include "u4d/io/tiny_capture_test_util.h"
 #include "u4d/util/check.h"
 #include "u4d/util/testing.h"
 
@@ -20,25 +21,7 @@ fs::path FreshDir(const std::string& name) {
   return dir;
 }
 
-Capture TwoViewCapture() {
-  Capture c;
-  c.name = "tiny";
-  c.num_frames = 2;
-  c.fps = 30;
-  for (int v = 0; v < 2; ++v) {
-    CaptureView view;
-    view.name = "cam" + std::to_string(v);
-    Camera cam;
-    cam.width = 8;
-    cam.height = 6;
-    cam.K << 10, 0, 4, 0, 10, 3, 0, 0, 1;
-    cam.cam_from_world.translation = {0.1 * v, 0, 2};
-    view.cameras = {cam};
-    view.source.path = "images/" + view.name + "/{:06d}.png";
-    c.views.push_back(view);
-  }
-  return c;
-}
+Capture TwoViewCapture() { return test_util::TinyTwoViewCapture(); }
 
 TEST(Capture, RoundTripAndFrames) {
   const fs::path dir = FreshDir("roundtrip");

@@ -5,28 +5,15 @@
 #include <gtest/gtest.h>
 
 #include "u4d/io/layout.h"
+#include "u4d/io/tiny_capture_test_util.h"
 #include "u4d/util/testing.h"
 
 namespace u4d {
 namespace {
 
 Capture TwoViewCapture(const fs::path& root) {
-  Capture c;
+  Capture c = test_util::TinyTwoViewCapture();
   c.root = root;
-  c.name = "tiny";
-  c.num_frames = 2;
-  for (int v = 0; v < 2; ++v) {
-    CaptureView view;
-    view.name = "cam" + std::to_string(v);
-    Camera cam;
-    cam.width = 8;
-    cam.height = 6;
-    cam.K << 10, 0, 4, 0, 10, 3, 0, 0, 1;
-    cam.cam_from_world.translation = {0.1 * v, 0, 2};
-    view.cameras = {cam};
-    view.source.path = "images/" + view.name + "/{:06d}.png";
-    c.views.push_back(view);
-  }
   WriteCapture(c, root);
   for (int v = 0; v < 2; ++v)
     for (int f = 0; f < 2; ++f) WriteTextFileAtomic(c.ImagePath(v, f), "pixels");
