@@ -206,25 +206,27 @@ struct InitOptions {
                                      // the model (0.5: the model's edge is clearly stronger)
   // People on the ground plane (step 6, SeparatePeopleOnGround); replaces
   // step 4's per-view split when at least occupancy_min_views cameras are given.
-  bool ground_occupancy = true;           // run step 6 (else step 4 splits each view)
-  int occupancy_min_views = 3;            // cameras needed; also views that must see a voxel
-  int occupancy_max_side = 320;           // longest image side at which voxels are tested (px)
-  int occupancy_cells = 128;              // cells per side of the cubic grid
-  double occupancy_extent = 0.8;          // grid half-size: this x median camera distance to
-                                          // the rig centre
-  double min_column_height_m = 0.3;       // lower columns are floor, shadow, clutter (m)
-  double min_person_height_m = 1.0;       // a person's highest column reaches this (m)
-  double previous_radius_m = 0.3;         // a previous person's position holds a candidate
-                                          // within this (m; SeparatePeopleOnGround)
-  double min_lone_height_m = 0.6;         // a lower region touching none that tall is a person
-                                          // when it reaches this (m)
-  double person_smoothing_m = 0.1;        // Gaussian sigma on the height map (m)
-  double person_saddle_ratio = 0.7;       // regions merge above this x the lower peak
-  double min_exclusive_share = 0.3;       // phantoms: no view has this share of its rays alone
-  double min_split_share = 0.25;          // an instance merges a second person nearest on this
-                                          // x as many of its rays as its own person
-  double occupancy_fill_fraction = 0.03;  // pixels missing an id take the nearest within
-                                          // this x image height, else are dropped
+  bool ground_occupancy = true;            // run step 6 (else step 4 splits each view)
+  int occupancy_min_views = 3;             // cameras needed; also views that must see a voxel
+  int occupancy_max_side = 320;            // longest image side at which voxels are tested (px)
+  int occupancy_cells = 128;               // cells per side of the cubic grid
+  double occupancy_extent = 0.8;           // grid half-size: this x median camera distance to
+                                           // the rig centre
+  double min_column_height_m = 0.3;        // lower columns are floor, shadow, clutter (m)
+  double min_person_height_m = 1.0;        // a person's highest column reaches this (m)
+  double previous_radius_m = 0.3;          // a previous person's position holds a candidate
+                                           // within this (m; SeparatePeopleOnGround)
+  double min_lone_height_m = 0.6;          // a lower region touching none that tall is a person
+                                           // when it reaches this (m)
+  double person_smoothing_m = 0.1;         // Gaussian sigma on the height map (m)
+  double person_saddle_ratio = 0.7;        // regions merge above this x the lower peak
+  double min_exclusive_share = 0.3;        // phantoms: no view has this share of its rays alone
+  double min_split_share = 0.25;           // an instance merges a second person nearest on this
+                                           // x as many of its rays as its own person
+  double instance_split_view_share = 0.5;  // a candidate k instances hold in this share of the
+                                           // views holding it is k touching people; 0 = off
+  double occupancy_fill_fraction = 0.03;   // pixels missing an id take the nearest within
+                                           // this x image height, else are dropped
 
   void Check() const;  // throws u4d::Error naming the offending field
 };
@@ -316,7 +318,18 @@ cv::Mat FillStillSubjects(const cv::Mat& image_bgr, const cv::Mat& foreground,
 // (where silhouette cones of different people cross) go: every ray through
 // a phantom also crosses a real person, so the candidate whose best view
 // has the smallest share of its rays crossing no other candidate is dropped
-// while that share is below min_exclusive_share.
+// while that share is below min_exclusive_share. People who touch are one
+// candidate on the map but separate instances in the views that see them
+// apart: a candidate that k instances hold in at least
+// instance_split_view_share of the views where any instance holds it (two
+// views at least) is split into k people (its columns
+// clustered on the ground, seeded at its highest column and the columns
+// farthest from it; an instance holds the candidate its rays meet first
+// most often, on at least min_split_share x as many rays as the instance
+// holding it most in that view); the rays are then cast again. A share, not
+// a count: a detector may split one person in a view, and a person's
+// silhouette cone, fat where few views carve it, can meet first the rays of
+// another person behind it in a few views.
 // Then per view, `instances` (step 4's ids) are the units: instances and
 // people are paired one to one, largest count first, by rays whose nearest
 // person is that person, then (people still unpaired) by rays crossing

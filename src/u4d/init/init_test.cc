@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <functional>
 #include <map>
+#include <set>
 #include <string>
 
 #include <opencv2/imgcodecs.hpp>
@@ -574,17 +575,23 @@ TEST(InitTest, GroundOccupancySplitsMergedPeopleWithOneIdAcrossViews) {
 // by frame, carrying each frame's positions to the next as the pipeline
 // does, step 6 on their true silhouettes (one instance per view, the worst
 // a detector can merge) must see two people in every frame.
+const SynthFixture& TouchFixture(const fs::path& captured_meshes) {
+  static const SynthFixture* touch = [&] {
+    synth::SynthOptions o = synth::SynthPreset("realistic");
+    o.captured_meshes = captured_meshes;
+    o.rig.image_width = 320;
+    o.rig.image_height = 180;
+    o.num_frames = 10;
+    o.write_meshes = false;
+    return MakeFixture("init_touch", o);
+  }();
+  return *touch;
+}
+
 TEST(InitTest, GroundOccupancyKeepsApartPeopleWhoWereApart) {
   const fs::path data = DataDir() / "captured_meshes";
   U4D_SKIP_WITHOUT_SHARED_DATA(data);
-  synth::SynthOptions o = synth::SynthPreset("realistic");
-  o.captured_meshes = data;
-  o.rig.image_width = 320;
-  o.rig.image_height = 180;
-  o.num_frames = 10;
-  o.write_meshes = false;
-  static const SynthFixture* touch = MakeFixture("init_touch", o);
-  const SynthFixture& f = *touch;
+  const SynthFixture& f = TouchFixture(data);
   std::vector<Eigen::Vector3d> previous;
   int two_alone = 0, two_carried = 0;
   for (int t = 0; t < f.capture.num_frames; ++t) {
@@ -605,6 +612,51 @@ TEST(InitTest, GroundOccupancyKeepsApartPeopleWhoWereApart) {
   }
   EXPECT_LT(two_alone, f.capture.num_frames);  // they do merge on the map alone
   EXPECT_EQ(two_carried, f.capture.num_frames);
+}
+
+// Touching people are one region on the map; when the given instances hold
+// them apart (true masks, numbered anew in every view, as a detector does),
+// step 6 must split the region by them and name them, without any previous
+// frame: in every frame exactly the two people, each one id in every view
+// where it is visible, two people never one id (against the ground truth).
+TEST(InitTest, GroundOccupancySplitsTouchingPeopleByTheirInstances) {
+  const fs::path data = DataDir() / "captured_meshes";
+  U4D_SKIP_WITHOUT_SHARED_DATA(data);
+  const SynthFixture& f = TouchFixture(data);
+  const int nv = f.capture.NumViews();
+  for (int t = 0; t < f.capture.num_frames; ++t) {
+    std::vector<cv::Mat> truth, given;
+    for (int v = 0; v < nv; ++v) {
+      truth.push_back(GtIds(f.capture, v, t));
+      // Renumbered per view: GT id g becomes (g + v) % 7 + 1.
+      cv::Mat local = cv::Mat::zeros(truth[v].size(), CV_16UC1);
+      for (int y = 0; y < local.rows; ++y)
+        for (int x = 0; x < local.cols; ++x)
+          if (const int g = truth[v].at<uint16_t>(y, x))
+            local.at<uint16_t>(y, x) = static_cast<uint16_t>((g + v) % 7 + 1);
+      given.push_back(local);
+    }
+    OccupancyMap map;
+    const std::vector<cv::Mat> named = SeparatePeopleOnGround(f.cameras, given, {}, &map);
+    EXPECT_EQ(map.num_people, 2) << "frame " << t;
+    std::map<int, std::map<int, int>> votes;  // GT id -> our id -> pixels, all views
+    for (int v = 0; v < nv; ++v)
+      for (int y = 0; y < named[v].rows; ++y)
+        for (int x = 0; x < named[v].cols; ++x)
+          if (const int g = truth[v].at<uint16_t>(y, x))
+            if (const int id = named[v].at<uint16_t>(y, x)) ++votes[g][id];
+    std::set<int> ids;
+    for (const auto& [g, by_id] : votes) {
+      int total = 0, best = 0, best_id = 0;
+      for (const auto& [id, n] : by_id) {
+        total += n;
+        if (n > best) best = n, best_id = id;
+      }
+      EXPECT_GE(best, 0.99 * total) << "frame " << t << ": GT person " << g << " has several ids";
+      ids.insert(best_id);
+    }
+    EXPECT_EQ(ids.size(), votes.size()) << "frame " << t << ": two people share one id";
+  }
 }
 
 TEST(InitTest, GroundOccupancyNamesPeopleAlikeInAllViews) {

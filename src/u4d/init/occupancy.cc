@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <numeric>
 #include <tuple>
 
@@ -422,11 +423,141 @@ std::vector<uint16_t> RemovePhantoms(const std::vector<std::vector<Ray>>& rays,
   return final_id;
 }
 
+// The instance (step 4's id, 0 = none) under a reduced-resolution pixel.
+int InstanceAt(const cv::Mat& inst, cv::Size reduced_size, int x, int y) {
+  const double sx = static_cast<double>(inst.cols) / reduced_size.width;
+  const double sy = static_cast<double>(inst.rows) / reduced_size.height;
+  return inst.at<uint16_t>(std::min(inst.rows - 1, static_cast<int>((y + 0.5) * sy)),
+                           std::min(inst.cols - 1, static_cast<int>((x + 0.5) * sx)));
+}
+
+// The first candidate a ray meets that is not a phantom, 0 for none.
+int NearestCandidate(const std::vector<uint16_t>& hits, const std::vector<uint16_t>& final_id) {
+  for (const uint16_t id : hits)
+    if (final_id[id]) return id;
+  return 0;
+}
+
 // The final id of the nearest person a ray crosses, 0 for none.
 int NearestPerson(const std::vector<uint16_t>& hits, const std::vector<uint16_t>& final_id) {
-  for (const uint16_t id : hits)
-    if (final_id[id]) return final_id[id];
-  return 0;
+  return final_id[NearestCandidate(hits, final_id)];
+}
+
+// Per candidate (index 0 unused), how many instances of one view hold it:
+// those whose rays meet it first more often than any other candidate, on at
+// least min_split_share x as many rays as the instance that meets it most.
+std::vector<int> InstancesHolding(const cv::Mat& inst, const std::vector<Ray>& rays,
+                                  cv::Size reduced_size, const std::vector<uint16_t>& final_id,
+                                  const InitOptions& options) {
+  const int nc = static_cast<int>(final_id.size());
+  std::map<int, std::vector<int>> first;  // instance -> rays per candidate
+  for (const Ray& r : rays)
+    if (const int i = InstanceAt(inst, reduced_size, r.x, r.y)) {
+      std::vector<int>& count = first.try_emplace(i, nc, 0).first->second;
+      ++count[NearestCandidate(r.hits, final_id)];
+    }
+  std::vector<int> most(nc, 0), held(nc, 0);
+  std::vector<int> own;  // per instance (in map order), the candidate it holds
+  for (const auto& [i, count] : first) {
+    const int c =
+        static_cast<int>(std::max_element(count.begin() + 1, count.end()) - count.begin());
+    own.push_back(count[c] > 0 ? c : 0);
+    most[c] = std::max(most[c], count[c]);
+  }
+  size_t k = 0;
+  for (const auto& [i, count] : first) {
+    const int c = own[k++];
+    if (c && count[c] >= options.min_split_share * most[c]) ++held[c];
+  }
+  return held;
+}
+
+// Splits candidate `c`'s columns into `k` people: seeds at its highest column
+// and then, in turn, the column farthest from the seeds among those at least
+// half as high; then Lloyd's iterations weighted by column height.
+void SplitCandidate(const cv::Mat& height, int c, int k, cv::Mat* person, int* candidates) {
+  struct Column {
+    int i, j;
+    double h;
+  };
+  std::vector<Column> columns;
+  double top = 0;
+  for (int j = 0; j < person->rows; ++j)
+    for (int i = 0; i < person->cols; ++i)
+      if (person->at<uint16_t>(j, i) == c) {
+        columns.push_back({i, j, height.at<float>(j, i)});
+        top = std::max(top, columns.back().h);
+      }
+  if (static_cast<int>(columns.size()) < k) return;
+  const auto d2 = [](const Column& a, const Eigen::Vector2d& b) {
+    return (Eigen::Vector2d(a.i, a.j) - b).squaredNorm();
+  };
+  std::vector<Eigen::Vector2d> centre;
+  const auto highest = std::max_element(columns.begin(), columns.end(),
+                                        [](const Column& a, const Column& b) { return a.h < b.h; });
+  centre.emplace_back(highest->i, highest->j);
+  while (static_cast<int>(centre.size()) < k) {
+    double best = -1;
+    Eigen::Vector2d far;
+    for (const Column& col : columns) {
+      if (col.h < 0.5 * top) continue;
+      double nearest = 1e30;
+      for (const Eigen::Vector2d& x : centre) nearest = std::min(nearest, d2(col, x));
+      if (nearest > best) best = nearest, far = Eigen::Vector2d(col.i, col.j);
+    }
+    centre.push_back(far);
+  }
+  std::vector<int> part(columns.size(), 0);
+  for (int iteration = 0; iteration < 20; ++iteration) {
+    for (size_t n = 0; n < columns.size(); ++n)
+      for (int p = 1; p < k; ++p)
+        if (d2(columns[n], centre[p]) < d2(columns[n], centre[part[n]])) part[n] = p;
+    std::vector<Eigen::Vector2d> sum(k, Eigen::Vector2d::Zero());
+    std::vector<double> weight(k, 0.0);
+    for (size_t n = 0; n < columns.size(); ++n) {
+      sum[part[n]] += columns[n].h * Eigen::Vector2d(columns[n].i, columns[n].j);
+      weight[part[n]] += columns[n].h;
+    }
+    for (int p = 0; p < k; ++p)
+      if (weight[p] > 0) centre[p] = sum[p] / weight[p];
+  }
+  std::vector<int> id_of(k, c);
+  for (int p = 1; p < k; ++p) id_of[p] = ++*candidates;
+  for (size_t n = 0; n < columns.size(); ++n)
+    person->at<uint16_t>(columns[n].j, columns[n].i) = static_cast<uint16_t>(id_of[part[n]]);
+}
+
+// People who touch are one candidate on the map, separate instances in the
+// views that see them apart (init.h): a candidate that k >= 2 instances
+// hold in at least instance_split_view_share of the views where any holds
+// it (and in two views at least) is split into k. Returns whether any was.
+bool SplitByInstances(const std::vector<cv::Mat>& instances,
+                      const std::vector<std::vector<Ray>>& rays, const ReducedMasks& reduced,
+                      const std::vector<uint16_t>& final_id, const InitOptions& options,
+                      const OccupancyMap& m, cv::Mat* person, int* candidates) {
+  if (options.instance_split_view_share <= 0) return false;
+  const int nc = static_cast<int>(final_id.size());
+  std::vector<std::vector<int>> held_in_views(nc);  // candidate -> instances per view holding it
+  for (size_t v = 0; v < instances.size(); ++v) {
+    const std::vector<int> held =
+        InstancesHolding(instances[v], rays[v], reduced.source[v].size(), final_id, options);
+    for (int c = 1; c < nc; ++c)
+      if (held[c] >= 1) held_in_views[c].push_back(held[c]);
+  }
+  bool split = false;
+  for (int c = 1; c < nc; ++c) {
+    std::vector<int>& held = held_in_views[c];
+    const int min_views = std::max(
+        2, static_cast<int>(std::ceil(options.instance_split_view_share * held.size() - 1e-9)));
+    if (static_cast<int>(held.size()) < min_views) continue;
+    // The largest k that at least min_views views hold.
+    std::sort(held.rbegin(), held.rend());
+    const int k = held[min_views - 1];
+    if (k < 2) continue;
+    SplitCandidate(m.height, c, k, person, candidates);
+    split = true;
+  }
+  return split;
 }
 
 // Per view, the step-4 instances are the units (they separate people side
@@ -451,14 +582,8 @@ cv::Mat NameInstances(const cv::Mat& inst, const std::vector<Ray>& rays, cv::Siz
   const int ni = static_cast<int>(max_id) + 1, np = num_people + 1;
   std::vector<std::vector<int>> first(ni, std::vector<int>(np, 0)), cross = first;
   cv::Mat nearest = cv::Mat::zeros(reduced_size, CV_16UC1);
-  const double sx = static_cast<double>(inst.cols) / reduced_size.width;
-  const double sy = static_cast<double>(inst.rows) / reduced_size.height;
-  const auto instance_at = [&](int x, int y) {
-    return inst.at<uint16_t>(std::min(inst.rows - 1, static_cast<int>((y + 0.5) * sy)),
-                             std::min(inst.cols - 1, static_cast<int>((x + 0.5) * sx)));
-  };
   for (const Ray& r : rays) {
-    const int i = instance_at(r.x, r.y);
+    const int i = InstanceAt(inst, reduced_size, r.x, r.y);
     const int k = NearestPerson(r.hits, final_id);
     nearest.at<uint16_t>(r.y, r.x) = static_cast<uint16_t>(k);
     if (i == 0) continue;
@@ -569,8 +694,13 @@ std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
   int candidates = 0;
   cv::Mat person = CandidatePeople(occupied, options, &m, &candidates);
   candidates = SplitByPrevious(previous_people, m, options, &person, candidates);
-  const std::vector<std::vector<Ray>> rays = CastRays(m, person, occupied, reduced);
-  const std::vector<uint16_t> final_id = RemovePhantoms(rays, person, candidates, options, &m);
+  std::vector<std::vector<Ray>> rays = CastRays(m, person, occupied, reduced);
+  std::vector<uint16_t> final_id = RemovePhantoms(rays, person, candidates, options, &m);
+  if (SplitByInstances(instances, rays, reduced, final_id, options, m, &person, &candidates)) {
+    m.num_people = 0;
+    rays = CastRays(m, person, occupied, reduced);
+    final_id = RemovePhantoms(rays, person, candidates, options, &m);
+  }
   std::vector<cv::Mat> out(nv);
   tbb::parallel_for(0, nv, [&](int v) {
     out[v] = NameInstances(instances[v], rays[v], reduced.source[v].size(), final_id, m.num_people,
