@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 #include <tuple>
 
@@ -98,6 +99,29 @@ void AttachFragments(const std::vector<cv::Mat>& masks, const std::vector<Sparse
 
 }  // namespace
 
+cv::Mat KeepGivenPixels(const cv::Mat& given, const cv::Mat& named) {
+  U4D_CHECK(given.type() == CV_16UC1 && named.type() == CV_16UC1 && given.size() == named.size(),
+            "KeepGivenPixels: the given and named masks must be CV_16U of one size");
+  std::map<int, std::map<int, int>> votes;  // given instance -> named id -> pixels
+  for (int y = 0; y < given.rows; ++y)
+    for (int x = 0; x < given.cols; ++x)
+      if (const int i = given.at<uint16_t>(y, x))
+        if (const int id = named.at<uint16_t>(y, x)) ++votes[i][id];
+  std::map<int, int> majority;
+  for (const auto& [i, by_id] : votes)
+    majority[i] = std::max_element(by_id.begin(), by_id.end(), [](const auto& a, const auto& b) {
+                    return a.second < b.second;
+                  })->first;
+  cv::Mat out = named.clone();
+  for (int y = 0; y < given.rows; ++y)
+    for (int x = 0; x < given.cols; ++x) {
+      uint16_t& id = out.at<uint16_t>(y, x);
+      const auto it = majority.find(given.at<uint16_t>(y, x));
+      if (id == 0 && it != majority.end()) id = static_cast<uint16_t>(it->second);
+    }
+  return out;
+}
+
 std::vector<cv::Mat> GroundPeopleFromDetections(const std::vector<Camera>& cameras,
                                                 const std::vector<cv::Mat>& masks,
                                                 const InitOptions& options,
@@ -120,7 +144,7 @@ std::vector<cv::Mat> GroundPeopleFromDetections(const std::vector<Camera>& camer
   people->assign(map.positions.begin() + std::min<size_t>(1, map.positions.size()),
                  map.positions.end());
   for (size_t v = 0; v < masks.size(); ++v)
-    if (masks[v].empty()) named[v] = cv::Mat();
+    named[v] = masks[v].empty() ? cv::Mat() : KeepGivenPixels(ids[v], named[v]);
   return named;
 }
 

@@ -87,11 +87,22 @@ struct ObjectLinker {
 // (ground positions, world) on input and this frame's on output: a hull
 // region that holds two of the previous people is split between them, so
 // that people who touch stay two. Views without a mask stay empty. Ids are
-// not alike through time (ObjectLinker does that).
+// not alike through time (ObjectLinker does that). The given masks keep
+// their pixels (KeepGivenPixels): the ground step names them, it does not
+// segment them.
 std::vector<cv::Mat> GroundPeopleFromDetections(const std::vector<Camera>& cameras,
                                                 const std::vector<cv::Mat>& masks,
                                                 const InitOptions& options,
                                                 std::vector<Eigen::Vector3d>* people);
+
+// Step 6 drops the pixels of an instance that lie far from every ray meeting
+// a person (clutter in the unsupervised masks; a hand or a foot the
+// low-resolution hull misses in given ones). Given masks keep them: a pixel
+// of `given` (ids local to the image) that `named` left at 0 takes the id
+// most of its instance's named pixels took; an instance named nowhere (no
+// person explains it, a false positive) stays dropped. Throws u4d::Error on
+// mismatched sizes or types (both CV_16U).
+cv::Mat KeepGivenPixels(const cv::Mat& given, const cv::Mat& named);
 
 // With poses: `masks[v]` detector ids (empty = none) -> object ids.
 FrameObjects ObjectsFromPoses(const std::vector<Camera>& cameras, const std::vector<cv::Mat>& masks,
