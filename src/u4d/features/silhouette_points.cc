@@ -15,6 +15,9 @@ void SilhouettePointOptions::Check() const {
   U4D_CHECK(depth_samples >= 2, "SilhouettePointOptions.depth_samples must be >= 2");
   U4D_CHECK(min_depth_m > 0, "SilhouettePointOptions.min_depth_m must be > 0");
   U4D_CHECK(min_views_seeing >= 1, "SilhouettePointOptions.min_views_seeing must be >= 1");
+  U4D_CHECK(min_foreground_share > 0 && min_foreground_share <= 1,
+            "SilhouettePointOptions.min_foreground_share must be in (0, 1], got {}",
+            min_foreground_share);
 }
 
 std::vector<SparsePoint> SilhouettePoints(const std::vector<Camera>& cameras,
@@ -24,14 +27,15 @@ std::vector<SparsePoint> SilhouettePoints(const std::vector<Camera>& cameras,
   const int nv = static_cast<int>(cameras.size());
   U4D_CHECK(static_cast<int>(masks.size()) == nv, "SilhouettePoints: {} cameras but {} masks", nv,
             masks.size());
-  // Reduced, slightly dilated foreground per view (absent mask: no view).
+  // Reduced, slightly dilated foreground per view (absent or empty mask: no view).
   std::vector<Camera> small(nv);
   std::vector<cv::Mat> fg(nv);
   double baseline = 0;
   for (int v = 0; v < nv; ++v) {
     for (int w = 0; w < nv; ++w)
       baseline = std::max(baseline, (cameras[v].Center() - cameras[w].Center()).norm());
-    if (masks[v].empty()) continue;
+    // A view whose detector found nobody tells nothing of the hull.
+    if (masks[v].empty() || cv::countNonZero(masks[v]) == 0) continue;
     const double s =
         std::min(1.0, double(options.max_side) / std::max(cameras[v].width, cameras[v].height));
     small[v] = ScaledCamera(cameras[v], s);
@@ -52,16 +56,17 @@ std::vector<SparsePoint> SilhouettePoints(const std::vector<Camera>& cameras,
       for (int d = 0; d < options.depth_samples; ++d) {
         const double inv = inv_near + (inv_far - inv_near) * d / (options.depth_samples - 1);
         const Eigen::Vector3d X = small[v].Unproject(px, 1 / inv);
-        int seeing = 0;
-        bool consistent = true;
-        for (int w = 0; w < nv && consistent; ++w) {
+        int seeing = 0, holding = 0;
+        for (int w = 0; w < nv; ++w) {
           if (w == v || fg[w].empty() || small[w].Depth(X) <= 0) continue;
           const Eigen::Vector2d q = small[w].Project(X);
           if (!q.allFinite() || !small[w].InImage(q)) continue;
           ++seeing;
-          consistent = fg[w].at<uint8_t>(int(std::lround(q.y())), int(std::lround(q.x()))) > 0;
+          holding += fg[w].at<uint8_t>(int(std::lround(q.y())), int(std::lround(q.x()))) > 0;
         }
-        if (!consistent || seeing < options.min_views_seeing) continue;
+        if (seeing < options.min_views_seeing ||
+            holding < std::ceil(options.min_foreground_share * seeing - 1e-9))
+          continue;
         SparsePoint p;
         p.position = X;
         for (int w = 0; w < nv; ++w) {

@@ -19,15 +19,21 @@ struct SilhouettePointOptions {
   int depth_samples = 192;    // depths per ray, even in inverse depth
   double min_depth_m = 0.3;   // nearest depth tested
   int min_views_seeing = 2;   // other views that must see a point (inside their image)
+  // Share of the other views seeing a point that must hold it in their
+  // foreground: a detector misses a person in some views, and one such view
+  // must not carve that person out of every view's hull.
+  double min_foreground_share = 0.75;
   void Check() const;
 };
 
 // Points on the visual hull of the union of the masks: for sampled
 // foreground pixels of every view, the first depth along the ray whose point
-// projects into the foreground of every other view that sees it (at least
-// min_views_seeing); observations are the views it projects into the
-// foreground of, with their pixels (full resolution). The farthest depth is
-// 1.5 x the largest distance between two cameras (at least 5 m).
+// projects into the foreground of at least min_foreground_share of the other
+// views that see it (at least min_views_seeing of them; a view whose mask
+// holds no foreground at all, where the detector found nobody, does not
+// vote, like an absent mask); observations are the views it projects
+// into the foreground of, with their pixels (full resolution). The farthest depth is 1.5 x the
+// largest distance between two cameras (at least 5 m).
 std::vector<SparsePoint> SilhouettePoints(const std::vector<Camera>& cameras,
                                           const std::vector<cv::Mat>& masks,
                                           const SilhouettePointOptions& options = {});

@@ -6,37 +6,19 @@
 #include <opencv2/imgproc.hpp>
 
 #include "u4d/synth/rig.h"
+#include "u4d/testing/sphere_figure.h"
 #include "u4d/util/check.h"
 
 namespace u4d {
 namespace {
 
-struct Sphere {
-  Eigen::Vector3d centre;
-  double radius;
-};
+using testing::RenderSpheres;
+using testing::Sphere;
 
 // A figure of spheres: a body column and an arm sticking out sideways.
 const std::vector<Sphere> kBody = {
     {{0, 0.5, 0}, 0.22}, {{0, 0.9, 0}, 0.22}, {{0, 1.3, 0}, 0.2}, {{0, 1.65, 0}, 0.12}};
 const std::vector<Sphere> kArm = {{{0.3, 1.35, 0}, 0.08}, {{0.45, 1.35, 0}, 0.08}};
-
-bool Hits(const Camera& cam, int x, int y, const std::vector<Sphere>& spheres) {
-  const Eigen::Vector3d c = cam.Center();
-  const Eigen::Vector3d d = (cam.Unproject(Eigen::Vector2d(x, y), 1.0) - c).normalized();
-  for (const Sphere& s : spheres) {
-    const Eigen::Vector3d to = s.centre - c;
-    if ((to - to.dot(d) * d).norm() < s.radius) return true;
-  }
-  return false;
-}
-
-cv::Mat Render(const Camera& cam, const std::vector<Sphere>& spheres) {
-  cv::Mat m = cv::Mat::zeros(cam.height, cam.width, CV_8U);
-  for (int y = 0; y < cam.height; ++y)
-    for (int x = 0; x < cam.width; ++x) m.at<uint8_t>(y, x) = Hits(cam, x, y, spheres) ? 255 : 0;
-  return m;
-}
 
 struct Scene {
   std::vector<Camera> cameras;
@@ -51,8 +33,8 @@ Scene MakeScene() {
   Scene s;
   s.cameras = synth::RigCameras(rig);
   for (const Camera& cam : s.cameras) {
-    s.body.push_back(Render(cam, kBody));
-    s.arm.push_back(Render(cam, kArm));
+    s.body.push_back(RenderSpheres(cam, kBody));
+    s.arm.push_back(RenderSpheres(cam, kArm));
     cv::Mat labels = cv::Mat::zeros(cam.height, cam.width, CV_16U);
     labels.setTo(1, s.body.back() | s.arm.back());
     s.labels.push_back(labels);
