@@ -64,7 +64,7 @@ Command MakeConsistencyCommand() {
         options.depth_tolerance = args->depth_tolerance;
         options.pixel_step = args->pixel_step;
         for (const std::string& b : args->baselines)
-          options.baseline_flows.push_back(eval::FlowBaselineFromString(b));
+          options.baseline_flows.push_back(baselines::FlowBaselineFromString(b));
         const eval::ConsistencyReport report =
             eval::EvaluateSceneConsistency(ReadCapture(capture), scene, options);
         const fs::path out =

@@ -75,11 +75,11 @@ Command MakeEvalCommand() {
                   drift.last_frame_drift.count);
             }
             if (!args->se_baselines.empty()) {
-              std::vector<eval::FlowBaseline> baselines;
+              std::vector<baselines::FlowBaseline> flows;
               for (const std::string& name : args->se_baselines)
-                baselines.push_back(eval::FlowBaselineFromString(name));
+                flows.push_back(baselines::FlowBaselineFromString(name));
               const auto se =
-                  eval::BaselineSilhouetteOverlap(ReadCapture(input.capture), baselines, options);
+                  eval::BaselineSilhouetteOverlap(ReadCapture(input.capture), flows, options);
               for (const auto& [name, r] : se) {
                 j["silhouette_overlap_error_baselines"][name] = {{"value", r.Mean()},
                                                                  {"frame_views", r.count}};

@@ -87,12 +87,12 @@ void RunWorld(const std::string& world) {
           window, cross, labels.size(), ms, Epe(flow, gt, mask));
     }
   }
-  for (eval::FlowBaseline b : eval::AllFlowBaselines()) {
+  for (baselines::FlowBaseline b : baselines::AllFlowBaselines()) {
     Timer timer;
-    const cv::Mat flow = eval::BaselineFlow(b, in.images_t[ref], in.images_t1[ref]);
+    const cv::Mat flow = baselines::BaselineFlow(b, in.images_t[ref], in.images_t1[ref]);
     const double ms = timer.Seconds() * 1e3;
     std::printf("%-10s EPE %.3f px, %7.1f ms (E_f window 3 / this: %.2f)\n",
-                eval::ToString(b).c_str(), Epe(flow, gt, mask), ms, ms_ref / ms);
+                baselines::ToString(b).c_str(), Epe(flow, gt, mask), ms, ms_ref / ms);
   }
   fs::remove_all(dir);
 }

@@ -256,7 +256,8 @@ int main(int argc, char** argv) try {
   std::map<std::string, Stats> stats;
   std::map<std::string, MergeStats> merge_stats;
   std::vector<std::string> order = {"detector", "initial", "grabcut", "wta", "sgbm", "zero"};
-  for (eval::FlowBaseline b : eval::AllFlowBaselines()) order.push_back(eval::ToString(b));
+  for (baselines::FlowBaseline b : baselines::AllFlowBaselines())
+    order.push_back(baselines::ToString(b));
   for (const std::string& m : methods) order.push_back(m);
   std::vector<TraceStats> trace;
   int num_depth_labels = 0, num_motion_labels = 0, solved_views = 0;
@@ -358,7 +359,7 @@ int main(int argc, char** argv) try {
         WriteImage(base.string() + "pose_bone.png", bone_id);
       }
       Timer timer;
-      const cv::Mat grabcut = eval::GrabCutInstances(in.images_t[v], in.initial_labels);
+      const cv::Mat grabcut = baselines::GrabCutInstances(in.images_t[v], in.initial_labels);
       add_seg("grabcut", grabcut, timer.Seconds());
       if (!args.dump.empty())
         WriteImage(
@@ -415,19 +416,19 @@ int main(int argc, char** argv) try {
       // OpenCV SGBM on rectified pairs with the 2 nearest views, median-fused
       // (baselines/stereo_baseline.h), searched over the same depth range.
       timer.Restart();
-      const cv::Mat sgbm = eval::SgbmFusedDepth(in.cameras_t, in.images_t, v, near, far);
+      const cv::Mat sgbm = baselines::SgbmFusedDepth(in.cameras_t, in.images_t, v, near, far);
       stats["sgbm"].seconds += timer.Seconds();
       ++stats["sgbm"].runs;
       add_depth("sgbm", sgbm);
 
       add_flow("zero", cv::Mat::zeros(t.flow.size(), CV_32FC2));
-      for (eval::FlowBaseline b : eval::AllFlowBaselines()) {
+      for (baselines::FlowBaseline b : baselines::AllFlowBaselines()) {
         timer.Restart();
-        const cv::Mat flow = eval::BaselineFlow(b, in.images_t[v], in.images_t1[v]);
-        Stats& s = stats[eval::ToString(b)];
+        const cv::Mat flow = baselines::BaselineFlow(b, in.images_t[v], in.images_t1[v]);
+        Stats& s = stats[baselines::ToString(b)];
         s.seconds += timer.Seconds();
         ++s.runs;
-        add_flow(eval::ToString(b), flow);
+        add_flow(baselines::ToString(b), flow);
       }
       if (merged_input)
         std::printf("merged input, frame %d view %d:%s\n", frame, v, merge_line.c_str());

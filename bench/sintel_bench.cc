@@ -212,7 +212,7 @@ int main(int argc, char** argv) try {
     std::vector<double> secs(methods.size(), 0);
     for (int m = 0; m < 3; ++m) {
       Timer timer;
-      flow[m] = eval::BaselineFlow(eval::FlowBaselineFromString(methods[m]), a, b);
+      flow[m] = baselines::BaselineFlow(baselines::FlowBaselineFromString(methods[m]), a, b);
       secs[m] = timer.Seconds();
     }
     const JointViewOptions jo;

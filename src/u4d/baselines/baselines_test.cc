@@ -16,7 +16,7 @@
 #include "u4d/synth/generate.h"
 #include "u4d/util/testing.h"
 
-namespace u4d::eval {
+namespace u4d::baselines {
 namespace {
 
 class BaselinesTest : public ::testing::Test {
@@ -40,7 +40,7 @@ class BaselinesTest : public ::testing::Test {
 // with, their accuracy is reported, not required.
 TEST_F(BaselinesTest, FlowBeatsZeroFlowOnPeople) {
   for (FlowBaseline b : AllFlowBaselines()) {
-    FlowMetrics m, zero;
+    eval::FlowMetrics m, zero;
     for (int v = 0; v < capture_.NumViews(); ++v)
       for (int t = 0; t + 1 < capture_.num_frames; ++t) {
         const std::string& name = capture_.views[v].name;
@@ -52,9 +52,9 @@ TEST_F(BaselinesTest, FlowBeatsZeroFlowOnPeople) {
         const cv::Mat gt = ReadFlo(dir_ / layout::GtFlow(name, t));
         const cv::Mat valid = ReadMaskImage(dir_ / layout::GtFlowValid(name, t));
         const cv::Mat person = ReadLabelImage(dir_ / layout::GtInstances(name, t)) != 0;
-        m.Add(EvaluateFlow(flow, gt, valid, person, "baseline"));
-        zero.Add(EvaluateFlow(cv::Mat(gt.size(), CV_32FC2, cv::Scalar(0, 0)), gt, valid, person,
-                              "zero"));
+        m.Add(eval::EvaluateFlow(flow, gt, valid, person, "baseline"));
+        zero.Add(eval::EvaluateFlow(cv::Mat(gt.size(), CV_32FC2, cv::Scalar(0, 0)), gt, valid,
+                                    person, "zero"));
       }
     std::printf("%-10s EPE on people %.3f px (zero flow %.3f px, %ld pixels)\n",
                 ToString(b).c_str(), m.Epe(), zero.Epe(), static_cast<long>(m.evaluated));
@@ -81,7 +81,7 @@ TEST(FlowBaselineInputs, BadImagesThrow) {
 // before and after is printed (the comparison the issue asks for); asserted is
 // only the contract: CV_16U, same size, every id from the input set.
 TEST_F(BaselinesTest, GrabCutRefinesInitialMasks) {
-  InstanceSegAccumulator before, after;
+  eval::InstanceSegAccumulator before, after;
   for (int v = 0; v < capture_.NumViews(); ++v)
     for (int t = 0; t < capture_.num_frames; ++t) {
       const std::string& name = capture_.views[v].name;
@@ -102,8 +102,8 @@ TEST_F(BaselinesTest, GrabCutRefinesInitialMasks) {
           out_ids.insert(refined.ids.at<uint16_t>(y, x));
         }
       for (int id : out_ids) EXPECT_TRUE(in_ids.count(id)) << "id " << id << " not in the input";
-      before.Add(EvaluateInstances(initial, gt, InstanceSegOptions{}, png.string()));
-      after.Add(EvaluateInstances(refined, gt, InstanceSegOptions{}, png.string()));
+      before.Add(eval::EvaluateInstances(initial, gt, eval::InstanceSegOptions{}, png.string()));
+      after.Add(eval::EvaluateInstances(refined, gt, eval::InstanceSegOptions{}, png.string()));
     }
   ASSERT_GT(before.num_gt, 0);
   std::printf("GrabCut: mean instance IoU %.3f -> %.3f over %d GT instances (%d images)\n",
@@ -130,4 +130,4 @@ TEST(GrabCutInputs, BadInputsThrow) {
 }
 
 }  // namespace
-}  // namespace u4d::eval
+}  // namespace u4d::baselines

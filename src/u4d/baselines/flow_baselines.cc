@@ -6,7 +6,7 @@
 
 #include "u4d/util/check.h"
 
-namespace u4d::eval {
+namespace u4d::baselines {
 namespace {
 
 cv::Mat Grey(const cv::Mat& image, const char* what) {
@@ -67,4 +67,4 @@ cv::Mat BaselineFlow(FlowBaseline which, const cv::Mat& image_t, const cv::Mat& 
   return flow;
 }
 
-}  // namespace u4d::eval
+}  // namespace u4d::baselines

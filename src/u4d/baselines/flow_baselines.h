@@ -10,7 +10,7 @@
 
 #include <opencv2/core.hpp>
 
-namespace u4d::eval {
+namespace u4d::baselines {
 
 enum class FlowBaseline { kDeepFlow, kDis, kFarneback };
 
@@ -24,4 +24,4 @@ const std::vector<FlowBaseline>& AllFlowBaselines();
 // same size. Throws u4d::Error on empty, mismatched or non-8-bit images.
 cv::Mat BaselineFlow(FlowBaseline which, const cv::Mat& image_t, const cv::Mat& image_t1);
 
-}  // namespace u4d::eval
+}  // namespace u4d::baselines

@@ -10,7 +10,7 @@
 
 #include "u4d/util/check.h"
 
-namespace u4d::eval {
+namespace u4d::baselines {
 namespace {
 
 // Likelihood of a BGR colour under a cv::grabCut GMM model (1 x 65 CV_64F:
@@ -131,4 +131,4 @@ cv::Mat GrabCutInstances(const cv::Mat& image, const cv::Mat& initial_ids,
   return out;
 }
 
-}  // namespace u4d::eval
+}  // namespace u4d::baselines

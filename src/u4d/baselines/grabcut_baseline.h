@@ -15,7 +15,7 @@
 
 #include <opencv2/core.hpp>
 
-namespace u4d::eval {
+namespace u4d::baselines {
 
 struct GrabCutOptions {
   int iterations = 5;  // cv::grabCut iterations per instance (>= 1)
@@ -33,4 +33,4 @@ struct GrabCutOptions {
 cv::Mat GrabCutInstances(const cv::Mat& image, const cv::Mat& initial_ids,
                          const GrabCutOptions& options = {});
 
-}  // namespace u4d::eval
+}  // namespace u4d::baselines

@@ -11,7 +11,7 @@
 
 #include "u4d/util/check.h"
 
-namespace u4d::eval {
+namespace u4d::baselines {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -228,4 +228,4 @@ cv::Mat SgbmFusedDepth(const std::vector<Camera>& cameras, const std::vector<cv:
   return fused;
 }
 
-}  // namespace u4d::eval
+}  // namespace u4d::baselines

@@ -32,7 +32,7 @@
 
 #include "u4d/geometry/camera.h"
 
-namespace u4d::eval {
+namespace u4d::baselines {
 
 struct StereoSgbmOptions {
   int num_pairs = 2;               // auxiliary views paired with the reference (>= 1)
@@ -72,4 +72,4 @@ cv::Mat SgbmFusedDepth(const std::vector<Camera>& cameras, const std::vector<cv:
                        int ref_view, double depth_near, double depth_far,
                        const StereoSgbmOptions& options = {});
 
-}  // namespace u4d::eval
+}  // namespace u4d::baselines

@@ -13,7 +13,7 @@
 #include "u4d/synth/generate.h"
 #include "u4d/util/testing.h"
 
-namespace u4d::eval {
+namespace u4d::baselines {
 namespace {
 
 class StereoBaselineTest : public ::testing::Test {
@@ -50,7 +50,7 @@ TEST_F(StereoBaselineTest, MostTexturedPersonPixelsWithinFivePercent) {
     images.push_back(ReadColorImage(capture_.ImagePath(v, 0)));
   }
   long textured = 0, good = 0;
-  DepthMetrics all;
+  eval::DepthMetrics all;
   for (int v = 0; v < num_views; ++v) {
     const std::string& name = capture_.views[v].name;
     const cv::Mat gt = ReadPfm(dir_ / layout::GtDepth(name, 0));
@@ -65,7 +65,7 @@ TEST_F(StereoBaselineTest, MostTexturedPersonPixelsWithinFivePercent) {
     const cv::Mat depth = SgbmFusedDepth(cameras, images, v, near, far);
     ASSERT_EQ(depth.type(), CV_32FC1);
     ASSERT_EQ(depth.size(), gt.size());
-    all.Add(EvaluateDepth(depth, gt, person, name));
+    all.Add(eval::EvaluateDepth(depth, gt, person, name));
     const cv::Mat mask = person & Textured(images[v]);
     for (int y = 0; y < gt.rows; ++y)
       for (int x = 0; x < gt.cols; ++x) {
@@ -113,4 +113,4 @@ TEST(StereoBaselineInputs, BadInputsThrow) {
 }
 
 }  // namespace
-}  // namespace u4d::eval
+}  // namespace u4d::baselines

@@ -5,15 +5,15 @@
 namespace u4d::eval {
 
 std::map<std::string, RatioMean> BaselineSilhouetteOverlap(
-    const Capture& capture, const std::vector<FlowBaseline>& baselines,
+    const Capture& capture, const std::vector<baselines::FlowBaseline>& flows,
     const EvalOptions& options) {
   FrameReader reader(capture);
   std::map<std::string, RatioMean> se;
-  for (FlowBaseline b : baselines)
-    se[ToString(b)] = GtSilhouetteOverlap(
+  for (baselines::FlowBaseline b : flows)
+    se[baselines::ToString(b)] = GtSilhouetteOverlap(
         capture,
         [&](int view, int frame) {
-          return BaselineFlow(b, reader.Read(view, frame), reader.Read(view, frame + 1));
+          return baselines::BaselineFlow(b, reader.Read(view, frame), reader.Read(view, frame + 1));
         },
         options);
   return se;

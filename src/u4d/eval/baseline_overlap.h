@@ -16,11 +16,11 @@
 
 namespace u4d::eval {
 
-// S_e per baseline, keyed by ToString(baseline). Reads the images with a
+// S_e per baseline flow, keyed by baselines::ToString(flow). Reads the images with a
 // FrameReader (a missing or corrupt frame throws u4d::Error naming it) and
 // the GT instances under <capture.root>/gt (missing: u4d::Error naming it).
 std::map<std::string, RatioMean> BaselineSilhouetteOverlap(
-    const Capture& capture, const std::vector<FlowBaseline>& baselines,
+    const Capture& capture, const std::vector<baselines::FlowBaseline>& flows,
     const EvalOptions& options = {});
 
 }  // namespace u4d::eval

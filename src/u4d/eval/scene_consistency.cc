@@ -101,11 +101,12 @@ void SilhouetteOverlap(const Scene& s, const ConsistencyOptions& o, FrameReader*
       const std::string ctx =
           fmt::format("S_e segment {} view {}", seg.index, s.capture.views[v].name);
       AddPropagation(ids[0], flows, ids, o.propagate, ctx, &r->se_own_flow);
-      for (FlowBaseline b : o.baseline_flows) {
+      for (baselines::FlowBaseline b : o.baseline_flows) {
         std::vector<cv::Mat> bflows;
         for (size_t k = 0; k + 1 < images.size(); ++k)
-          bflows.push_back(BaselineFlow(b, images[k], images[k + 1]));
-        AddPropagation(ids[0], bflows, ids, o.propagate, ctx, &r->se_baseline[ToString(b)]);
+          bflows.push_back(baselines::BaselineFlow(b, images[k], images[k + 1]));
+        AddPropagation(ids[0], bflows, ids, o.propagate, ctx,
+                       &r->se_baseline[baselines::ToString(b)]);
       }
     }
   }

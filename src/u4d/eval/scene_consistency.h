@@ -50,7 +50,7 @@ struct ConsistencyOptions {
   double depth_tolerance = 0.02;  // relative depth difference that counts as agreement
   int pixel_step = 2;             // sample every n-th pixel in x and y for the cross-view check
   // OpenCV flows to propagate the masks with as well (they need the images).
-  std::vector<FlowBaseline> baseline_flows;
+  std::vector<baselines::FlowBaseline> baseline_flows;
   PropagateOptions propagate;
   void Check() const;
 };

@@ -128,7 +128,7 @@ TEST_F(SceneEvalTest, DriftIsZeroForGtAndEqualsTheMotionForAFrozenMesh) {
 TEST_F(SceneEvalTest, OracleSceneIsConsistent) {
   const fs::path scene = WriteOracleScene("oracle");
   ConsistencyOptions o;
-  o.baseline_flows = {FlowBaseline::kDis};
+  o.baseline_flows = {baselines::FlowBaseline::kDis};
   const ConsistencyReport r = EvaluateSceneConsistency(capture_, scene, o);
   std::printf("%s", r.FormatTable().c_str());
   EXPECT_EQ(r.projection_error.Mean(), 0.0);
@@ -201,8 +201,8 @@ TEST_F(SceneEvalTest, BaselineFlowsCarryGtMasksBetterThanNoFlow) {
   // Key-frame 0 and the 3 frames after it, in each of the 4 views.
   EXPECT_EQ(gt.count, 4 * (kFrames - 1));
   EXPECT_LT(gt.Mean(), zero.Mean());
-  const auto se =
-      BaselineSilhouetteOverlap(capture_, {FlowBaseline::kDis, FlowBaseline::kFarneback}, o);
+  const auto se = BaselineSilhouetteOverlap(
+      capture_, {baselines::FlowBaseline::kDis, baselines::FlowBaseline::kFarneback}, o);
   ASSERT_EQ(se.size(), 2u);
   for (const auto& [name, r] : se) {
     SCOPED_TRACE(name);

@@ -85,10 +85,11 @@ TEST_F(JointViewSynthTest, EnergyDecreasesAndImprovesLabelsDepthAndFlow) {
                                                  seg_options, "initial");
     const auto refined =
         eval::EvaluateInstances(PersonInstances(r.labels), t.instances, seg_options, "refined");
-    iou_grabcut += eval::EvaluateInstances(
-                       PersonInstances(eval::GrabCutInstances(in.images_t[v], in.initial_labels)),
-                       t.instances, seg_options, "grabcut")
-                       .mean_instance_iou;
+    iou_grabcut +=
+        eval::EvaluateInstances(
+            PersonInstances(baselines::GrabCutInstances(in.images_t[v], in.initial_labels)),
+            t.instances, seg_options, "grabcut")
+            .mean_instance_iou;
     iou_initial += initial.mean_instance_iou;
     iou_refined += refined.mean_instance_iou;
     ++views;
@@ -98,12 +99,12 @@ TEST_F(JointViewSynthTest, EnergyDecreasesAndImprovesLabelsDepthAndFlow) {
     flow_refined.Add(eval::EvaluateFlow(r.flow, t.flow, t.flow_valid, people, "refined flow"));
     flow_zero.Add(eval::EvaluateFlow(cv::Mat::zeros(t.flow.size(), CV_32FC2), t.flow, t.flow_valid,
                                      people, "zero flow"));
-    flow_deepflow.Add(eval::EvaluateFlow(
-        eval::BaselineFlow(eval::FlowBaseline::kDeepFlow, in.images_t[v], in.images_t1[v]), t.flow,
-        t.flow_valid, people, "deepflow"));
+    flow_deepflow.Add(eval::EvaluateFlow(baselines::BaselineFlow(baselines::FlowBaseline::kDeepFlow,
+                                                                 in.images_t[v], in.images_t1[v]),
+                                         t.flow, t.flow_valid, people, "deepflow"));
     flow_dis.Add(eval::EvaluateFlow(
-        eval::BaselineFlow(eval::FlowBaseline::kDis, in.images_t[v], in.images_t1[v]), t.flow,
-        t.flow_valid, people, "dis"));
+        baselines::BaselineFlow(baselines::FlowBaseline::kDis, in.images_t[v], in.images_t1[v]),
+        t.flow, t.flow_valid, people, "dis"));
     std::printf("view %d: IoU %.3f -> %.3f, %d depth / %d motion labels, %.2f s\n", v,
                 initial.mean_instance_iou, refined.mean_instance_iou, r.num_depth_labels,
                 r.num_motion_labels, r.seconds);
