@@ -3,8 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include <opencv2/video/tracking.hpp>
-
+#include "u4d/baselines/dense_flow.h"
 #include "u4d/util/check.h"
 
 namespace u4d {
@@ -96,8 +95,8 @@ cv::Mat BackgroundFlow(const Camera& cam_t, const Camera& cam_t1, const cv::Mat&
             size.width, size.height, grey_t.cols, grey_t.rows, grey_t.type(), grey_t1.cols,
             grey_t1.rows, grey_t1.type());
   if (!CameraMoved(cam_t, cam_t1)) return cv::Mat::zeros(size, CV_32FC2);
-  cv::Mat matches;
-  cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM)->calc(grey_t, grey_t1, matches);
+  const cv::Mat matches =
+      baselines::DenseFlow(baselines::DenseFlowMethod::kDisMedium, grey_t, grey_t1);
   return RigidFlowFromMatches(cam_t, cam_t1, matches, options);
 }
 

@@ -6,8 +6,8 @@
 
 #include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/video/tracking.hpp>
 
+#include "u4d/baselines/dense_flow.h"
 #include "u4d/joint/contrast.h"
 #include "u4d/joint/depth_cost.h"
 #include "u4d/joint/motion_labels.h"
@@ -36,16 +36,13 @@ struct LabelOnlyEnergy : mrf::GridEnergy {
 std::vector<cv::Mat> SemanticLabelMaps(const JointViewInput& in) {
   std::vector<cv::Mat> maps = {in.initial_labels};
   const cv::Mat& ref = in.images_t[in.ref_view];
-  cv::Mat ref_grey;
   for (const LabelledImage& li : in.appearance_training) {
     if (li.labels.data == in.initial_labels.data || li.image.data == ref.data) continue;
     if (li.image.size() != ref.size() || li.labels.size() != ref.size() ||
         li.labels.type() != CV_16UC1)
       continue;
-    if (ref_grey.empty()) cv::cvtColor(ref, ref_grey, cv::COLOR_BGR2GRAY);
-    cv::Mat grey, flow;
-    cv::cvtColor(li.image, grey, cv::COLOR_BGR2GRAY);
-    cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM)->calc(ref_grey, grey, flow);
+    const cv::Mat flow =
+        baselines::DenseFlow(baselines::DenseFlowMethod::kDisMedium, ref, li.image);
     cv::Mat map_x(ref.size(), CV_32F), map_y(ref.size(), CV_32F);
     for (int y = 0; y < ref.rows; ++y)
       for (int x = 0; x < ref.cols; ++x) {
@@ -327,12 +324,10 @@ FlowCostInput SetUpFlowTerms(const JointViewInput& in, const JointViewOptions& o
     flow_in.depth_t = *plane_sweep_depth;
     flow_in.sparse = sparse;
     flow_in.roi = roi;
-    if (options.flow.sparse && options.flow.dense_support) {
-      cv::Mat grey_t, grey_t1;
-      cv::cvtColor(in.images_t[in.ref_view], grey_t, cv::COLOR_BGR2GRAY);
-      cv::cvtColor(in.images_t1[in.ref_view], grey_t1, cv::COLOR_BGR2GRAY);
-      flow_in.dense_matches = FineDisFlow(grey_t, grey_t1);
-    }
+    if (options.flow.sparse && options.flow.dense_support)
+      flow_in.dense_matches =
+          baselines::DenseFlow(baselines::DenseFlowMethod::kDisFine, in.images_t[in.ref_view],
+                               in.images_t1[in.ref_view]);
     energy->motion =
         ComputeFlowCostVolume(flow_in, BuildMotionLabels(sparse, options.motion_labels),
                               options.motion_labels, options.flow);

@@ -4,9 +4,8 @@
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
-#include <opencv2/optflow.hpp>
-#include <opencv2/video/tracking.hpp>
 
+#include "u4d/baselines/dense_flow.h"
 #include "u4d/joint/block_schedule.h"
 #include "u4d/joint/motion_labels.h"
 #include "u4d/mrf/expansion.h"
@@ -126,16 +125,6 @@ void FlowFusionOptions::Check() const {
   U4D_CHECK(rounds >= 1, "FlowFusionOptions.rounds must be >= 1, got {}", rounds);
 }
 
-cv::Mat FineDisFlow(const cv::Mat& grey_t, const cv::Mat& grey_t1) {
-  cv::Mat f;
-  const cv::Ptr<cv::DISOpticalFlow> dis =
-      cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM);
-  dis->setFinestScale(0);
-  dis->setVariationalRefinementIterations(10);
-  dis->calc(grey_t, grey_t1, f);
-  return f;
-}
-
 std::vector<cv::Mat> FlowFusionProposals(const cv::Mat& grey_t, const cv::Mat& grey_t1,
                                          const FlowFusionOptions& options,
                                          const cv::Mat& fine_dis) {
@@ -145,21 +134,16 @@ std::vector<cv::Mat> FlowFusionProposals(const cv::Mat& grey_t, const cv::Mat& g
             "{}x{} type {})",
             grey_t.cols, grey_t.rows, grey_t.type(), grey_t1.cols, grey_t1.rows, grey_t1.type());
   std::vector<cv::Mat> proposals;
-  if (options.deepflow) {
-    cv::Mat f;
-    cv::optflow::createOptFlow_DeepFlow()->calc(grey_t, grey_t1, f);
-    proposals.push_back(f);
-  }
+  using baselines::DenseFlow;
+  using baselines::DenseFlowMethod;
+  if (options.deepflow) proposals.push_back(DenseFlow(DenseFlowMethod::kDeepFlow, grey_t, grey_t1));
   if (options.dis_fine) {
     U4D_CHECK(fine_dis.empty() || (fine_dis.type() == CV_32FC2 && fine_dis.size() == grey_t.size()),
               "FlowFusionProposals: the given fine DIS flow must be CV_32FC2 of the images' size");
-    proposals.push_back(fine_dis.empty() ? FineDisFlow(grey_t, grey_t1) : fine_dis);
+    proposals.push_back(fine_dis.empty() ? DenseFlow(DenseFlowMethod::kDisFine, grey_t, grey_t1)
+                                         : fine_dis);
   }
-  if (options.dis) {
-    cv::Mat f;
-    cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM)->calc(grey_t, grey_t1, f);
-    proposals.push_back(f);
-  }
+  if (options.dis) proposals.push_back(DenseFlow(DenseFlowMethod::kDisMedium, grey_t, grey_t1));
   if (proposals.size() == 2) proposals.push_back(0.5 * (proposals[0] + proposals[1]));
   return proposals;
 }

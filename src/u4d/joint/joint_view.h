@@ -237,18 +237,14 @@ struct JointViewResult {
 // The flow fusion's proposals that do not depend on the state, for grey
 // (CV_8U) frames t and t+1 of one size: DeepFlow, DIS fine, DIS medium (the
 // ones `options` enables, in that order), then, with exactly two of them, their
-// mean. `fine_dis`, when given, is FineDisFlow of the same frames, already
-// computed (E_f's dense matches), and is used instead of computing it again.
+// mean. `fine_dis`, when given, is the DIS fine flow of the same frames
+// (baselines::DenseFlow, DenseFlowMethod::kDisFine), already computed (E_f's
+// dense matches), and is used instead of computing it again.
 // Throws u4d::Error on images that are not 8-bit grey of one size.
 // Defined in flow_fusion.cc (the stage itself: flow_fusion.h).
 std::vector<cv::Mat> FlowFusionProposals(const cv::Mat& grey_t, const cv::Mat& grey_t1,
                                          const FlowFusionOptions& options,
                                          const cv::Mat& fine_dis = {});
-
-// OpenCV DIS (medium preset) down to the finest pyramid scale with 10
-// variational refinement iterations, grey (CV_8U) t -> t+1: the fusion's
-// `dis_fine` proposal and E_f's dense matches (FlowCostOptions::dense_support).
-cv::Mat FineDisFlow(const cv::Mat& grey_t, const cv::Mat& grey_t1);
 
 // Throws u4d::Error on inconsistent input (sizes, counts, label ids).
 JointViewResult SolveJointView(const JointViewInput& input, const JointViewOptions& options);
