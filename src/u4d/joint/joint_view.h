@@ -100,7 +100,7 @@ struct FlowFusionOptions {
 
 struct JointViewOptions {
   JointWeights weights;              // λ's (PaperWeights by default)
-  JointTerms terms;                  // which terms are on (AblationTerms)
+  JointTerms terms;                  // which terms are on (presets: AblationTerms)
   LabelCostOptions labels;           // E_a, E_sem
   DepthCostOptions depth;            // E_d
   MotionLabelOptions motion_labels;  // M and e_F^S

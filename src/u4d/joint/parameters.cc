@@ -63,19 +63,6 @@ JointTerms AblationTerms(const std::string& name) {
   return t;
 }
 
-JointTerms TermsOnInBoth(const JointTerms& a, const JointTerms& b) {
-  JointTerms t;
-  t.depth = a.depth && b.depth;
-  t.appearance = a.appearance && b.appearance;
-  t.semantic = a.semantic && b.semantic;
-  t.flow = a.flow && b.flow;
-  t.smooth = a.smooth && b.smooth;
-  t.contrast = a.contrast && b.contrast;
-  t.motion_reg = a.motion_reg && b.motion_reg;
-  t.pose = a.pose && b.pose;
-  return t;
-}
-
 nlohmann::json ToJson(const JointWeights& weights) {
   JointWeights copy = weights;
   return OptionsToJson(OptionsOf(&copy));

@@ -14,7 +14,8 @@
 //
 // Ablations (paper Sec. "Ablation study"): P_M drops the motion terms (E_f,
 // E_r), P_P the pose term (E_p), P_PM both, P_S the semantic term (E_sem),
-// P_PS pose and semantic. Any term can also be switched off alone.
+// P_PS pose and semantic. Any term can also be switched off alone. In `u4d
+// run` the ablation is a preset of the option joint.terms (RunOptions).
 #pragma once
 
 #include <string>
@@ -68,8 +69,6 @@ struct JointTerms {
 // listing the known ones.
 JointTerms AblationTerms(const std::string& name);
 const std::vector<std::string>& AblationNames();
-// The terms switched on in both `a` and `b`.
-JointTerms TermsOnInBoth(const JointTerms& a, const JointTerms& b);
 
 nlohmann::json ToJson(const JointWeights& weights);
 nlohmann::json ToJson(const JointTerms& terms);

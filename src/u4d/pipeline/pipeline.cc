@@ -704,7 +704,6 @@ RunResult RunPipeline(const fs::path& capture_dir, const fs::path& scene_dir,
 
   JointViewOptions joint = options.joint;
   if (options.paper_weights) joint.weights = PaperWeights(cap.scene, c.NumViews());
-  joint.terms = TermsOnInBoth(options.joint.terms, AblationTerms(options.ablation));
   if (c.poses == PoseSource::kNone) joint.terms.pose = false;
 
   RunResult result;

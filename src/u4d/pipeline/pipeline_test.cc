@@ -18,6 +18,7 @@
 #include "u4d/io/instance_mask.h"
 #include "u4d/io/layout.h"
 #include "u4d/io/scene_index.h"
+#include "u4d/joint/parameters.h"
 #include "u4d/synth/generate.h"
 #include "u4d/util/check.h"
 #include "u4d/util/data_dir.h"
@@ -363,7 +364,7 @@ TEST(PipelineTest, CorruptFrameAndMismatchedOptionsFailClearly) {
   // masks' foreground threshold, unused with the given masks here); options
   // that only control the run (threads) do not count.
   RunOptions other = FastOptions();
-  other.ablation = "P_M";
+  other.joint.terms = AblationTerms("P_M");
   EXPECT_THROW(RunPipeline(capture, scene, other), Error);
   RunOptions other_init = FastOptions();
   other_init.init.threshold_sigmas = 5;

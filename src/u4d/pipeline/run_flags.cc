@@ -11,8 +11,9 @@
 namespace u4d {
 namespace {
 
-// The earlier config format: top-level "weights" (replacing the paper's
-// table) and "terms", moved to their places in RunOptions.
+// The earlier config formats: top-level "weights" (replacing the paper's
+// table) and "terms", moved to their places in RunOptions; a params.json with
+// "ablation" beside joint.terms read as the terms that ran (FromLegacyAblation).
 nlohmann::json FromLegacyConfig(nlohmann::json j) {
   if (!j.is_object()) return j;
   if (j.contains("weights")) {
@@ -24,7 +25,12 @@ nlohmann::json FromLegacyConfig(nlohmann::json j) {
     j["joint"]["terms"] = j["terms"];
     j.erase("terms");
   }
-  return j;
+  return FromLegacyAblation(std::move(j));
+}
+
+// The key of a --set assignment ("key=value"; the whole text without '=').
+std::string AssignmentKey(const std::string& assignment) {
+  return assignment.substr(0, assignment.find('='));
 }
 
 const OptionEntry* FlagEntry(const OptionRegistry& registry, const OptionFlag& flag) {
@@ -64,9 +70,15 @@ void RunOverrides::ApplyTo(RunOptions* options) const {
   const OptionRegistry registry = OptionsOf(options);
   if (!config.empty())
     UpdateOptionsFromJson(registry, FromLegacyConfig(ReadJsonFile(config)), config);
-  for (const std::string& a : assignments) SetOptionAssignment(registry, a, "--set");
-  for (const auto& [flag, value] : named_flags)
-    SetOptionFromText(registry, flag.key, flag.value.empty() ? value : flag.value, flag.flag);
+  // The presets of the command line (--set ablation=..., --ablation) first,
+  // then everything else, so an explicit option wins over a preset.
+  for (const bool presets : {true, false}) {
+    for (const std::string& a : assignments)
+      if (registry.IsPreset(AssignmentKey(a)) == presets) SetOptionAssignment(registry, a, "--set");
+    for (const auto& [flag, value] : named_flags)
+      if (registry.IsPreset(flag.key) == presets)
+        SetOptionFromText(registry, flag.key, flag.value.empty() ? value : flag.value, flag.flag);
+  }
 }
 
 bool RunOverrides::Take(int argc, char** argv, int* i, const std::vector<OptionFlag>& extra_flags) {
@@ -132,7 +144,10 @@ std::string RunOptionsMarkdown() {
       "(`{\"joint\": {\"rounds\": 3}}`), any subset;\n"
       "- `--set KEY=VALUE`: one option, e.g. `--set joint.weights.flow=0.6` (repeatable);\n"
       "- the named flags below, shorthands for common options;\n\n"
-      "applied in that order (a flag wins). With `paper_weights` true (the default) the "
+      "applied in that order (a flag wins), except that a preset (`ablation`, `--ablation`: "
+      "it sets the `joint.terms`) is applied before the explicit options of the file, and "
+      "a preset on the command line before the `--set`s and flags there, so an explicit "
+      "`joint.terms.*` wins over it. With `paper_weights` true (the default) the "
       "paper's table for the capture replaces `joint.weights`; set it false to use them.\n\n"
       "## Named flags\n\n| flag | option |\n|---|---|\n";
   for (const OptionFlag& f : RunOptionFlags())

@@ -10,10 +10,15 @@
 //   named flags       shorthands for common options (RunOptionFlags(): e.g.
 //                     --working-width N is --set frame_setup.working_width=N)
 //
-// applied in that order, so a flag wins over --set and --set over the file.
+// applied in that order, so a flag wins over --set and --set over the file;
+// a preset (`ablation`: the joint.terms of a paper's ablation) is applied
+// before the explicit options of its level (the file's keys; the command
+// line's --set and flags), so an explicit joint.terms.* wins over it.
 // A config file of the earlier format, {"weights": {...}, "terms": {...}}, is
 // still read: "weights" replaces the paper's table (joint.weights with
-// paper_weights false), "terms" sets joint.terms. Errors (unknown key, wrong
+// paper_weights false), "terms" sets joint.terms, and a params.json written
+// when "ablation" was a field beside joint.terms gives the terms that ran
+// (FromLegacyAblation). Errors (unknown key, wrong
 // type) throw u4d::Error naming the file or flag and the dotted key; the
 // values are checked by RunOptions::Check() where the options are used.
 #pragma once
@@ -41,7 +46,9 @@ struct RunOverrides {
   std::vector<std::string> assignments;                         // --set, in order
   std::vector<std::pair<OptionFlag, std::string>> named_flags;  // with their values, in order
 
-  // The config file, then the assignments, then the named flags.
+  // The config file (its presets first), then the presets among the
+  // assignments and named flags, then the other assignments, then the other
+  // named flags.
   void ApplyTo(RunOptions* options) const;
 
   // For a hand-parsed command line (the benches): when argv[*i] is --config,

@@ -60,7 +60,6 @@ void RunOptions::Check() const {
   U4D_CHECK(keyframe_mask_width >= 16, "RunOptions.keyframe_mask_width must be >= 16, got {}",
             keyframe_mask_width);
   U4D_CHECK(threads >= 0, "RunOptions.threads must be >= 0, got {}", threads);
-  AblationTerms(ablation);  // throws on an unknown name
   U4D_CHECK(!paper_weights || u4d::ToJson(joint.weights) == u4d::ToJson(JointWeights()),
             "RunOptions: joint.weights are set but paper_weights is true, so the paper's table "
             "would replace them; set paper_weights to false to use them");
@@ -86,7 +85,22 @@ nlohmann::json RunOptions::ToJson() const {
   return OptionsToJson(OptionsOf(&copy));
 }
 
+nlohmann::json FromLegacyAblation(nlohmann::json j) {
+  if (!j.is_object() || !j.contains("ablation") || !j["ablation"].is_string()) return j;
+  const nlohmann::json::json_pointer terms_path("/joint/terms");
+  if (!j.contains(terms_path) || !j[terms_path].is_object()) return j;
+  nlohmann::json& terms = j[terms_path];
+  const nlohmann::json off = u4d::ToJson(AblationTerms(j["ablation"].get<std::string>()));
+  for (const auto& term : off.items())
+    if (!terms.contains(term.key())) return j;  // not a complete params.json: a preset
+  for (const auto& [name, on] : off.items())
+    if (!on.get<bool>()) terms[name] = false;
+  j.erase("ablation");
+  return j;
+}
+
 nlohmann::json RunOptions::ResumeKey(nlohmann::json params) {
+  params = FromLegacyAblation(std::move(params));
   RunOptions defaults;
   EraseRunControlOptions(OptionsOf(&defaults), &params);
   return params;
@@ -108,9 +122,18 @@ void DeclareOptions(OptionRegistry& r, RunOptions* o) {
        {"from2d", PoseSource::kFrom2d},
        {"none", PoseSource::kNone}},
       "3D poses: auto (poses3d/, else poses2d/ triangulated, else none), given3d, from2d, none");
-  r.Add("ablation", &o->ablation,
-        "the paper's ablations: full, P_M, P_P, P_PM, P_S, P_PS (AblationTerms); a term is on when "
-        "it is on here and in joint.terms");
+  r.AddPreset(
+      "ablation", AblationNames(),
+      [o](const std::string& name) { o->joint.terms = AblationTerms(name); },
+      [o]() -> nlohmann::json {
+        for (const std::string& name : AblationNames())
+          if (AblationTerms(name) == o->joint.terms) return name;
+        return nullptr;  // terms of no ablation
+      },
+      "sets the joint.terms to the paper's ablation: full (all on), P_M (flow, motion_reg off), "
+      "P_P (pose off), P_PM (pose, flow, motion_reg off), P_S (semantic off), P_PS (pose, "
+      "semantic off) (AblationTerms); applied before the explicit options, so a joint.terms.* "
+      "set in the same file or on the command line wins");
   r.Add("picture_width", &o->picture_width, "viewer pictures (0 = the camera's width)");
   r.Add("track_chunk_frames", &o->track_chunk_frames,
         "temporal tracks are linked within chunks of this many frames (bounded memory on long "

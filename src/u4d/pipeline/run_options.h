@@ -50,7 +50,7 @@ struct RunOptions {
   int num_frames = -1;  // -1: to the end of the capture
   MaskSource masks = MaskSource::kAuto;
   PoseSource poses = PoseSource::kAuto;
-  std::string ablation = "full";  // joint::AblationTerms: full, P_M, P_P, P_PM, P_S, P_PS
+  // (the option `ablation` is a preset of joint.terms, not a field: DeclareOptions)
   int picture_width = 480;        // viewer pictures (0 = the camera's width)
   int track_chunk_frames = 40;    // temporal tracks are linked within chunks of this many
                                   // frames (bounded memory on long captures)
@@ -83,13 +83,20 @@ struct RunOptions {
   nlohmann::json ToJson() const;
   // `params` (ToJson(), possibly with more top-level fields) without the run
   // control options (evaluate, resume, threads, progress, allow_empty): what a
-  // resumed run must share with the run that wrote the scene.
+  // resumed run must share with the run that wrote the scene. params.json of
+  // the earlier format (FromLegacyAblation) is read as the terms that ran.
   static nlohmann::json ResumeKey(nlohmann::json params);
 };
-// Every field of RunOptions and of the structs nested in it, declared once.
+// Every field of RunOptions and of the structs nested in it, declared once
+// for params.json, --config and docs/options.md (util/options.h), and the
+// preset `ablation`: the paper's ablation (AblationTerms) as joint.terms.
 void DeclareOptions(OptionRegistry& r, RunOptions* o);
-// Its fields, declared once for params.json, --config and docs/options.md
-// (util/options.h).
-void DeclareOptions(OptionRegistry& r, RunOptions* o);
+
+// Options JSON of the earlier format (params.json written before `ablation`
+// became a preset: a string beside joint.terms, a term on when on in both)
+// -> the terms that ran: when `j` has "ablation" and all of joint.terms, the
+// terms off in that ablation are switched off and "ablation" is removed.
+// Other JSON is returned as is (a new "ablation" is a preset, applied first).
+nlohmann::json FromLegacyAblation(nlohmann::json j);
 
 }  // namespace u4d

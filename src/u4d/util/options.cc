@@ -36,20 +36,22 @@ bool IsGroup(const OptionRegistry& registry, const std::string& key) {
   return false;
 }
 
+// Sets the presets (presets true) or the other fields (false) found in `j`.
 void UpdateGroup(const OptionRegistry& registry, const nlohmann::json& j, const std::string& prefix,
-                 const std::string& context) {
+                 const std::string& context, bool presets) {
   U4D_CHECK(j.is_object(), "{}: {} must be a JSON object, found {}", context,
             prefix.empty() ? "the options" : fmt::format("option group '{}'", prefix),
             JsonDescribe(j));
   for (const auto& [name, value] : j.items()) {
     const std::string key = prefix.empty() ? name : prefix + "." + name;
     if (const OptionEntry* e = registry.Find(key)) {
-      e->set(value, fmt::format("{}: option '{}'", context, key));
+      if ((e->role == OptionRole::kPreset) == presets)
+        e->set(value, fmt::format("{}: option '{}'", context, key));
       continue;
     }
     U4D_CHECK(IsGroup(registry, key), "{}: unknown option '{}' (`u4d options` lists them)", context,
               key);
-    UpdateGroup(registry, value, key, context);
+    UpdateGroup(registry, value, key, context, presets);
   }
 }
 
@@ -128,6 +130,23 @@ void OptionRegistry::Add(const std::string& name, uint64_t* field, const std::st
   AddEntry(std::move(e), name, help, role);
 }
 
+void OptionRegistry::AddPreset(const std::string& name, std::vector<std::string> names,
+                               std::function<void(const std::string&)> apply,
+                               std::function<nlohmann::json()> current, const std::string& help) {
+  OptionEntry e;
+  e.type = "enum";
+  e.choices = std::move(names);
+  e.get = std::move(current);
+  e.set = [apply = std::move(apply), choices = e.choices](const nlohmann::json& v,
+                                                          const std::string& where) {
+    const std::string text = v.is_string() ? v.get<std::string>() : v.dump();
+    if (!v.is_string() || std::find(choices.begin(), choices.end(), text) == choices.end())
+      ThrowUnknownName(where, text, choices);
+    apply(text);
+  };
+  AddEntry(std::move(e), name, help, OptionRole::kPreset);
+}
+
 void OptionRegistry::AddEntry(OptionEntry entry, const std::string& name, const std::string& help,
                               OptionRole role) {
   entry.key = prefix_ + name;
@@ -143,6 +162,11 @@ const OptionEntry* OptionRegistry::Find(const std::string& key) const {
   return nullptr;
 }
 
+bool OptionRegistry::IsPreset(const std::string& key) const {
+  const OptionEntry* e = Find(key);
+  return e != nullptr && e->role == OptionRole::kPreset;
+}
+
 void OptionRegistry::ThrowUnknownName(const std::string& where, const std::string& value,
                                       const std::vector<std::string>& names) {
   ThrowError(fmt::format("{} must be one of {}, got {}", where, fmt::join(names, ", "), value));
@@ -151,7 +175,7 @@ void OptionRegistry::ThrowUnknownName(const std::string& where, const std::strin
 nlohmann::json OptionsToJson(const OptionRegistry& registry, bool result_only) {
   nlohmann::json out = nlohmann::json::object();
   for (const OptionEntry& e : registry.Entries()) {
-    if (result_only && e.role != OptionRole::kResult) continue;
+    if (e.role == OptionRole::kPreset || (result_only && e.role != OptionRole::kResult)) continue;
     nlohmann::json* node = &out;
     size_t begin = 0;
     for (size_t dot = e.key.find('.'); dot != std::string::npos; dot = e.key.find('.', begin)) {
@@ -175,7 +199,8 @@ void EraseRunControlOptions(const OptionRegistry& registry, nlohmann::json* j) {
 
 void UpdateOptionsFromJson(const OptionRegistry& registry, const nlohmann::json& j,
                            const std::string& context) {
-  UpdateGroup(registry, j, "", context);
+  UpdateGroup(registry, j, "", context, /*presets=*/true);
+  UpdateGroup(registry, j, "", context, /*presets=*/false);
 }
 
 void SetOptionFromText(const OptionRegistry& registry, const std::string& key,
@@ -201,6 +226,8 @@ std::string OptionsMarkdown(const OptionRegistry& registry) {
         e.type == "enum" ? fmt::format("{}", fmt::join(e.choices, " \\| ")) : e.type;
     const std::string help = e.role == OptionRole::kRunControl
                                  ? "(run control, not in the resume key) " + e.help
+                             : e.role == OptionRole::kPreset
+                                 ? "(preset, not in params.json: the options it sets are) " + e.help
                                  : e.help;
     out +=
         fmt::format("| `{}` | {} | `{}` | {} |\n", e.key, type, DefaultCell(e), EscapeCell(help));

@@ -23,6 +23,12 @@
 // A field is either result-changing (the default) or run control
 // (OptionRole::kRunControl: threads, progress bars, ...): both are written to
 // params.json, only the first are compared when a run resumes.
+//
+// A preset (AddPreset, OptionRole::kPreset) is a name that sets other fields
+// (e.g. `ablation` sets the joint.terms booleans). It holds no value of its
+// own: it is not written to params.json (the fields it set are), and
+// UpdateOptionsFromJson applies the presets of a JSON object before its other
+// keys, so a field set explicitly in the same object wins over a preset.
 #pragma once
 
 #include <cstdint>
@@ -39,6 +45,7 @@ namespace u4d {
 enum class OptionRole {
   kResult,      // changes what a run computes
   kRunControl,  // changes only how it runs (threads, progress, resume)
+  kPreset,      // sets other fields; not stored itself (AddPreset)
 };
 
 // One field of an options struct.
@@ -71,6 +78,13 @@ class OptionRegistry {
   void Add(const std::string& name, std::string* field, const std::string& help,
            OptionRole role = OptionRole::kResult);
 
+  // A preset: setting it to one of `names` calls apply(name), which sets
+  // other fields; get() is current(): the name whose settings the fields hold
+  // now, or null. An unknown name throws, naming the key, it and `names`.
+  void AddPreset(const std::string& name, std::vector<std::string> names,
+                 std::function<void(const std::string&)> apply,
+                 std::function<nlohmann::json()> current, const std::string& help);
+
   // An enum stored as one of `names` (name, value) in JSON and on the command line.
   template <typename E>
   void AddEnum(const std::string& name, E* field, std::vector<std::pair<std::string, E>> names,
@@ -88,6 +102,8 @@ class OptionRegistry {
   const std::vector<OptionEntry>& Entries() const { return *entries_; }
   // nullptr when no field has this dotted key.
   const OptionEntry* Find(const std::string& key) const;
+  // Whether `key` names a preset (AddPreset).
+  bool IsPreset(const std::string& key) const;
 
  private:
   OptionRegistry(std::shared_ptr<std::vector<OptionEntry>> entries, std::string prefix);
@@ -109,7 +125,8 @@ OptionRegistry OptionsOf(T* options) {
   return r;
 }
 
-// Every field (or only the result-changing ones) as nested JSON objects.
+// Every field (or only the result-changing ones) as nested JSON objects;
+// presets are left out (they hold no value of their own).
 nlohmann::json OptionsToJson(const OptionRegistry& registry, bool result_only = false);
 
 // Removes the run-control fields (OptionRole::kRunControl) from `j`, JSON as
@@ -117,7 +134,8 @@ nlohmann::json OptionsToJson(const OptionRegistry& registry, bool result_only = 
 void EraseRunControlOptions(const OptionRegistry& registry, nlohmann::json* j);
 
 // Overrides the fields present in the object `j` (nested objects for nested
-// structs; absent fields keep their values). An unknown key or a value of the
+// structs; absent fields keep their values): first the presets in `j`, then
+// its other keys, so an explicit field wins over a preset. An unknown key or a value of the
 // wrong type throws, naming `context` and the dotted key.
 void UpdateOptionsFromJson(const OptionRegistry& registry, const nlohmann::json& j,
                            const std::string& context);
