@@ -39,6 +39,54 @@ void DeclareOptions(OptionRegistry& r, OuterOptions* o) {
 
 using test_util::ExpectErrorMentions;
 
+// A preset "look" that sets inner.scale and inner.colour.
+OptionRegistry WithPreset(OuterOptions* o) {
+  OptionRegistry r = OptionsOf(o);
+  r.AddPreset(
+      "look", {"small-red", "big-blue"},
+      [o](const std::string& name) {
+        o->inner.scale = name == "small-red" ? 0.5 : 2.0;
+        o->inner.colour = name == "small-red" ? Colour::kRed : Colour::kBlue;
+      },
+      [o]() -> nlohmann::json {
+        if (o->inner.scale == 0.5 && o->inner.colour == Colour::kRed) return "small-red";
+        if (o->inner.scale == 2.0 && o->inner.colour == Colour::kBlue) return "big-blue";
+        return nullptr;
+      },
+      "a look");
+  return r;
+}
+
+// A preset sets its fields, is not in the JSON, goes before the explicit
+// fields of the same object whatever their order, and refuses unknown names.
+TEST(Options, PresetSetsItsFieldsBeforeTheExplicitOnes) {
+  OuterOptions o;
+  const OptionRegistry r = WithPreset(&o);
+  EXPECT_TRUE(r.IsPreset("look"));
+  EXPECT_FALSE(r.IsPreset("inner.scale"));
+  EXPECT_FALSE(r.IsPreset("nothing"));
+  EXPECT_EQ(r.Find("look")->get(), "small-red");
+  EXPECT_FALSE(OptionsToJson(r).contains("look"));
+  SetOptionFromText(r, "look", "big-blue", "--look");
+  EXPECT_EQ(o.inner.scale, 2.0);
+  EXPECT_EQ(o.inner.colour, Colour::kBlue);
+  for (const nlohmann::json& j :
+       {nlohmann::json::parse(R"({"inner": {"scale": 3}, "look": "small-red"})"),
+        nlohmann::json::parse(R"({"look": "small-red", "inner": {"scale": 3}})")}) {
+    o = OuterOptions();
+    o.inner.colour = Colour::kBlue;
+    UpdateOptionsFromJson(r, j, "c.json");
+    EXPECT_EQ(o.inner.scale, 3.0) << j;
+    EXPECT_EQ(o.inner.colour, Colour::kRed) << j;
+    EXPECT_TRUE(r.Find("look")->get().is_null());
+  }
+  ExpectErrorMentions([&] { SetOptionFromText(r, "look", "plain", "--look"); },
+                      {"--look", "'look'", "plain", "small-red, big-blue"});
+  EXPECT_NE(OptionsMarkdown(r).find("| `look` | small-red \\| big-blue | `null` | (preset"),
+            std::string::npos)
+      << OptionsMarkdown(r);
+}
+
 TEST(Options, KeysAreDottedInDeclarationOrder) {
   OuterOptions o;
   const OptionRegistry r = OptionsOf(&o);
