@@ -320,7 +320,7 @@ cv::Mat FillStillSubjects(const cv::Mat& image_bgr, const cv::Mat& foreground,
 // has the smallest share of its rays crossing no other candidate is dropped
 // while that share is below min_exclusive_share. People who touch are one
 // candidate on the map but separate instances in the views that see them
-// apart: a candidate that k instances hold in at least
+// apart (given masks, instances_are_people): a candidate that k instances hold in at least
 // instance_split_view_share of the views where any instance holds it (two
 // views at least) is split into k people (its columns
 // clustered on the ground, seeded at its highest column and the columns
@@ -361,12 +361,16 @@ struct OccupancyMap {
 // the previous frame's people (OccupancyMap::positions, world); a region of
 // the map that holds two or more of them (within previous_radius_m) is split
 // between them, each column to the nearest, so that people who touch stay
-// apart when they were apart before. Throws on a wrong type or size, fewer
-// than 2 views, or cameras that all sit at one point.
+// apart when they were apart before. `instances_are_people`: the instances
+// are per-person detections (given masks), not step 4's heuristic splits
+// (HOG boxes, column-profile valleys, which cut one person in several views
+// at once); only then is a candidate they hold apart split by them
+// (instance_split_view_share). Throws on a wrong type or size, fewer than 2
+// views, or cameras that all sit at one point.
 std::vector<cv::Mat> SeparatePeopleOnGround(
     const std::vector<Camera>& cameras, const std::vector<cv::Mat>& instances,
     const InitOptions& options = {}, OccupancyMap* map = nullptr,
-    const std::vector<Eigen::Vector3d>& previous_people = {});
+    const std::vector<Eigen::Vector3d>& previous_people = {}, bool instances_are_people = false);
 // Whether UnsupervisedInstanceMasks runs step 6 with this many calibrated
 // cameras (its ids are then alike across views).
 bool UsesGroundOccupancy(const InitOptions& options, int num_cameras);

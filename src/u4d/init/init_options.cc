@@ -109,8 +109,8 @@ void DeclareOptions(OptionRegistry& r, InitOptions* o) {
       "min_split_share", &o->min_split_share,
       "an instance merges a second person nearest on this x as many of its rays as its own person");
   r.Add("instance_split_view_share", &o->instance_split_view_share,
-        "a map candidate that k instances hold in this share of the views holding it is k "
-        "touching people; 0 = off");
+        "given masks: a map candidate that k instances hold in this share of the views holding "
+        "it is k touching people; 0 = off");
   r.Add("occupancy_fill_fraction", &o->occupancy_fill_fraction,
         "pixels missing an id take the nearest within this x image height, else are dropped");
 }

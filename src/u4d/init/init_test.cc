@@ -637,7 +637,8 @@ TEST(InitTest, GroundOccupancySplitsTouchingPeopleByTheirInstances) {
       given.push_back(local);
     }
     OccupancyMap map;
-    const std::vector<cv::Mat> named = SeparatePeopleOnGround(f.cameras, given, {}, &map);
+    const std::vector<cv::Mat> named = SeparatePeopleOnGround(f.cameras, given, {}, &map, {},
+                                                              /*instances_are_people=*/true);
     EXPECT_EQ(map.num_people, 2) << "frame " << t;
     std::map<int, std::map<int, int>> votes;  // GT id -> our id -> pixels, all views
     for (int v = 0; v < nv; ++v)

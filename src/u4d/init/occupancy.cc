@@ -668,7 +668,8 @@ Eigen::Vector3d RigUpDirection(const std::vector<Camera>& cameras) {
 std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
                                             const std::vector<cv::Mat>& instances,
                                             const InitOptions& options, OccupancyMap* map,
-                                            const std::vector<Eigen::Vector3d>& previous_people) {
+                                            const std::vector<Eigen::Vector3d>& previous_people,
+                                            bool instances_are_people) {
   options.Check();
   const int nv = static_cast<int>(cameras.size());
   U4D_CHECK(nv >= 2, "SeparatePeopleOnGround: needs at least 2 views, found {}", nv);
@@ -696,7 +697,8 @@ std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
   candidates = SplitByPrevious(previous_people, m, options, &person, candidates);
   std::vector<std::vector<Ray>> rays = CastRays(m, person, occupied, reduced);
   std::vector<uint16_t> final_id = RemovePhantoms(rays, person, candidates, options, &m);
-  if (SplitByInstances(instances, rays, reduced, final_id, options, m, &person, &candidates)) {
+  if (instances_are_people &&
+      SplitByInstances(instances, rays, reduced, final_id, options, m, &person, &candidates)) {
     m.num_people = 0;
     rays = CastRays(m, person, occupied, reduced);
     final_id = RemovePhantoms(rays, person, candidates, options, &m);

@@ -140,7 +140,8 @@ std::vector<cv::Mat> GroundPeopleFromDetections(const std::vector<Camera>& camer
   }
   if (!any) return masks;  // nobody seen: the previous people are kept for the next frame
   OccupancyMap map;
-  std::vector<cv::Mat> named = SeparatePeopleOnGround(cameras, ids, options, &map, *people);
+  std::vector<cv::Mat> named = SeparatePeopleOnGround(cameras, ids, options, &map, *people,
+                                                      /*instances_are_people=*/true);
   people->assign(map.positions.begin() + std::min<size_t>(1, map.positions.size()),
                  map.positions.end());
   for (size_t v = 0; v < masks.size(); ++v)
