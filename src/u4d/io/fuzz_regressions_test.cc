@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "u4d/io/image_io.h"
 #include "u4d/io/import_calibration.h"
 #include "u4d/io/import_fourda.h"
 #include "u4d/util/testing.h"
@@ -45,6 +46,15 @@ TEST(FuzzRegressions, ImportText) {
     ExpectReadOrError(p, [&] { ReadMiddleburyCalibration(p, 640, 480); });
     ExpectReadOrError(p, [&] { ReadFourdaGroundTruth(p); });
     ExpectReadOrError(p, [&] { ReadFourdaDetections(p); });
+  });
+  EXPECT_GE(n, 1);
+}
+
+// As fuzz/mask_png_fuzz.cc: the input as a mask's PNG of instance ids.
+TEST(FuzzRegressions, MaskPng) {
+  const int n = ForEachRegression("mask_png", [](const fs::path& p) {
+    ExpectReadOrError(p, [&] { ReadLabelImage(p); });
+    ExpectReadOrError(p, [&] { ReadMaskImage(p); });
   });
   EXPECT_GE(n, 1);
 }

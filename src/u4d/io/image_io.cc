@@ -1,5 +1,6 @@
 #include "u4d/io/image_io.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -13,11 +14,54 @@
 namespace u4d {
 namespace {
 
-cv::Mat ReadAny(const fs::path& path, int flags, const char* what) {
+// Big-endian 32-bit at `p`.
+uint32_t ReadBigEndian32(const unsigned char* p) {
+  return (uint32_t{p[0]} << 24) | (uint32_t{p[1]} << 16) | (uint32_t{p[2]} << 8) | p[3];
+}
+
+const char* FormatName(ImageFormat format) {
+  switch (format) {
+    case ImageFormat::kPng:
+      return "PNG";
+    case ImageFormat::kJpeg:
+      return "JPEG";
+    case ImageFormat::kBmp:
+      return "BMP";
+    case ImageFormat::kTiff:
+      return "TIFF";
+    case ImageFormat::kUnknown:
+      break;
+  }
+  return "unknown";
+}
+
+// The PNG header (IHDR, bytes 16-23) gives the size before anything is decoded.
+void CheckPngSize(const fs::path& path, const char* what) {
+  std::ifstream in(path, std::ios::binary);
+  unsigned char header[24] = {};
+  in.read(reinterpret_cast<char*>(header), sizeof(header));
+  U4D_CHECK(in.gcount() == sizeof(header) && std::memcmp(header + 12, "IHDR", 4) == 0,
+            "{}: corrupt {} (PNG without an IHDR header)", path.string(), what);
+  const int64_t width = ReadBigEndian32(header + 16), height = ReadBigEndian32(header + 20);
+  U4D_CHECK(width > 0 && height > 0 && height <= kMaxImagePixels / width,
+            "{}: implausible {} size {}x{} (at most {} pixels)", path.string(), what, width, height,
+            kMaxImagePixels);
+}
+
+// Decodes `path` when its format is one of `allowed`, else throws naming the file.
+cv::Mat ReadAny(const fs::path& path, int flags, const char* what,
+                std::initializer_list<ImageFormat> allowed) {
   CheckFileExists(path, what);
+  const ImageFormat format = SniffImageFormat(path);
+  const bool ok = std::find(allowed.begin(), allowed.end(), format) != allowed.end();
+  std::string names;
+  for (ImageFormat f : allowed) names += std::string(names.empty() ? "" : ", ") + FormatName(f);
+  U4D_CHECK(ok, "{}: {} is corrupt or in a format not read here (found {}, expected {})",
+            path.string(), what, FormatName(format), names);
+  if (format == ImageFormat::kPng) CheckPngSize(path, what);
   cv::Mat image = cv::imread(path.string(), flags);
-  U4D_CHECK(!image.empty(), "{}: cannot decode {} (corrupt or unsupported format)", path.string(),
-            what);
+  U4D_CHECK(!image.empty(), "{}: cannot decode {} (corrupt {})", path.string(), what,
+            FormatName(format));
   return image;
 }
 
@@ -35,14 +79,31 @@ void CheckDataSize(const fs::path& path, uint64_t header_bytes, uint64_t data_by
 
 }  // namespace
 
+ImageFormat SniffImageFormat(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  unsigned char m[8] = {};
+  in.read(reinterpret_cast<char*>(m), sizeof(m));
+  const auto starts = [&](std::initializer_list<unsigned char> magic) {
+    return in.gcount() >= static_cast<std::streamsize>(magic.size()) &&
+           std::equal(magic.begin(), magic.end(), m);
+  };
+  if (starts({0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A})) return ImageFormat::kPng;
+  if (starts({0xFF, 0xD8, 0xFF})) return ImageFormat::kJpeg;
+  if (starts({'B', 'M'})) return ImageFormat::kBmp;
+  if (starts({'I', 'I', 42, 0}) || starts({'M', 'M', 0, 42})) return ImageFormat::kTiff;
+  return ImageFormat::kUnknown;
+}
+
 cv::Mat ReadColorImage(const fs::path& path) {
-  cv::Mat image = ReadAny(path, cv::IMREAD_COLOR, "image");
+  cv::Mat image =
+      ReadAny(path, cv::IMREAD_COLOR, "image",
+              {ImageFormat::kPng, ImageFormat::kJpeg, ImageFormat::kBmp, ImageFormat::kTiff});
   U4D_CHECK(image.depth() == CV_8U, "{}: expected an 8-bit image", path.string());
   return image;
 }
 
 cv::Mat ReadLabelImage(const fs::path& path) {
-  cv::Mat image = ReadAny(path, cv::IMREAD_UNCHANGED, "label image");
+  cv::Mat image = ReadAny(path, cv::IMREAD_UNCHANGED, "label image", {ImageFormat::kPng});
   U4D_CHECK(image.channels() == 1, "{}: label image must have one channel, found {}", path.string(),
             image.channels());
   U4D_CHECK(image.depth() == CV_16U || image.depth() == CV_8U,
@@ -52,7 +113,7 @@ cv::Mat ReadLabelImage(const fs::path& path) {
 }
 
 cv::Mat ReadMaskImage(const fs::path& path) {
-  cv::Mat image = ReadAny(path, cv::IMREAD_GRAYSCALE, "mask image");
+  cv::Mat image = ReadAny(path, cv::IMREAD_GRAYSCALE, "mask image", {ImageFormat::kPng});
   return image > 0;
 }
 

@@ -2,8 +2,9 @@
 // Every reader throws u4d::Error naming the file when it is missing, corrupt,
 // of the wrong type or of an unexpected size; every writer is atomic.
 //
-//  colour images   8-bit BGR (cv::Mat CV_8UC3), any format OpenCV reads
+//  colour images   8-bit BGR (cv::Mat CV_8UC3): PNG, JPEG, BMP or TIFF
 //  instance ids    16-bit single-channel PNG (CV_16UC1), 0 = background
+//  masks           8-bit single-channel PNG, non-zero = true
 //  depth           PFM, float32 metres along the optical axis (z), 0 = unknown
 //  flow            Middlebury .flo, float32 (u, v) in pixels; NaN or >1e9 = invalid
 #pragma once
@@ -13,6 +14,17 @@
 #include "u4d/util/file.h"
 
 namespace u4d {
+
+// The image formats the readers accept, told by the file's first bytes (not its
+// extension). Only these are handed to OpenCV's decoders: a file in any other
+// format (or none) is an error before decoding, so no other decoder linked
+// into OpenCV ever sees untrusted bytes.
+enum class ImageFormat { kPng, kJpeg, kBmp, kTiff, kUnknown };
+ImageFormat SniffImageFormat(const fs::path& path);
+
+// The largest image the readers decode (width x height), checked on the PNG
+// header before any pixel is allocated: 4 x a 4096 x 4096 frame.
+constexpr int64_t kMaxImagePixels = int64_t{1} << 26;
 
 // Reads an 8-bit colour image (grey images are converted to BGR).
 cv::Mat ReadColorImage(const fs::path& path);

@@ -41,6 +41,44 @@ TEST(ImageIo, FloRoundTripAndRealSintel) {
   EXPECT_LT(std::max(std::abs(lo), std::abs(hi)), 1000.0);
 }
 
+TEST(ImageIo, OnlyKnownFormatsReachTheDecoders) {
+  const fs::path dir = TempDir();
+  cv::Mat ids(3, 4, CV_16UC1, cv::Scalar(7));
+  WriteImage(dir / "ids.png", ids);
+  EXPECT_EQ(SniffImageFormat(dir / "ids.png"), ImageFormat::kPng);
+  EXPECT_EQ(cv::norm(ReadLabelImage(dir / "ids.png"), ids, cv::NORM_INF), 0.0);
+  // Instance ids and masks are PNG only; a JPEG named .png is refused by its bytes.
+  WriteImage(dir / "frame.jpg", cv::Mat(8, 8, CV_8UC3, cv::Scalar(1, 2, 3)));
+  fs::copy_file(dir / "frame.jpg", dir / "jpeg.png", fs::copy_options::overwrite_existing);
+  EXPECT_EQ(SniffImageFormat(dir / "jpeg.png"), ImageFormat::kJpeg);
+  EXPECT_EQ(ReadColorImage(dir / "jpeg.png").size(), cv::Size(8, 8));
+  test_util::ExpectErrorMentions([&] { ReadLabelImage(dir / "jpeg.png"); },
+                                 {"jpeg.png", "found JPEG", "expected PNG"});
+  test_util::ExpectErrorMentions([&] { ReadMaskImage(dir / "jpeg.png"); }, {"expected PNG"});
+  // A JPEG 2000 file (a format OpenCV could decode) never reaches its decoder.
+  {
+    std::ofstream out(dir / "j2k.png", std::ios::binary);
+    out << std::string("\x00\x00\x00\x0cjP  \r\n\x87\n", 12) << std::string(64, '\0');
+  }
+  EXPECT_EQ(SniffImageFormat(dir / "j2k.png"), ImageFormat::kUnknown);
+  test_util::ExpectErrorMentions([&] { ReadColorImage(dir / "j2k.png"); }, {"j2k.png", "unknown"});
+}
+
+TEST(ImageIo, AHugePngHeaderIsRefusedBeforeDecoding) {
+  const fs::path dir = TempDir();
+  WriteImage(dir / "small.png", cv::Mat(2, 2, CV_16UC1, cv::Scalar(1)));
+  std::string bytes;
+  {
+    std::ifstream in(dir / "small.png", std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  // IHDR width and height (big-endian at bytes 16 and 20): 60000 x 60000.
+  for (int at : {16, 20}) bytes.replace(at, 4, std::string("\x00\x00\xea\x60", 4));
+  { std::ofstream(dir / "huge.png", std::ios::binary) << bytes; }
+  test_util::ExpectErrorMentions([&] { ReadLabelImage(dir / "huge.png"); },
+                                 {"huge.png", "60000x60000"});
+}
+
 TEST(ImageIo, PfmRoundTrip) {
   cv::Mat depth(6, 9, CV_32FC1);
   cv::randu(depth, 0.5, 8.0);

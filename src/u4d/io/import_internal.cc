@@ -7,9 +7,9 @@
 #include <set>
 
 #include <opencv2/calib3d.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "u4d/io/image_io.h"
 #include "u4d/util/check.h"
 
 namespace u4d::import_internal {
@@ -84,11 +84,7 @@ std::vector<fs::path> SortedImages(const fs::path& dir) {
   return out;
 }
 
-cv::Size ImageSize(const fs::path& path) {
-  const cv::Mat image = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
-  U4D_CHECK(!image.empty(), "{}: cannot read image", path.string());
-  return image.size();
-}
+cv::Size ImageSize(const fs::path& path) { return ReadColorImage(path).size(); }
 
 VideoInfo ProbeVideo(const fs::path& path) {
   CheckFileExists(path, "video");
