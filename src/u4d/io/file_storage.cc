@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string_view>
 
 #include <fmt/format.h>
 #include <opencv2/core.hpp>
@@ -35,10 +36,51 @@ std::string CountsText(const std::vector<int>& counts) {
   return s;
 }
 
+// Whether the rest of a line holds only spaces or a comment.
+bool BlankOrComment(std::string_view rest) {
+  const size_t i = rest.find_first_not_of(" \t\r");
+  return i == std::string_view::npos || rest[i] == '#';
+}
+
+// OpenCV's YAML parser (4.6) loops forever on some multi-document input: after
+// a document that ends early (content on its '---' line, or a '...' line) it
+// reads the next from a stale line buffer, and a line starting with '-' then
+// stops it advancing. The files read here hold one document, so anything
+// after a '...' line, a second '---', or content on the '---' line is refused
+// before OpenCV sees the file. XML ('<') and JSON ('{') files are not YAML.
+void CheckSingleYamlDocument(const fs::path& path, const std::string& what) {
+  const std::string text = ReadTextFile(path);
+  const size_t first = text.find_first_not_of(" \t\r\n");
+  if (first == std::string::npos || text[first] == '<' || text[first] == '{') return;
+  bool content = false, ended = false;
+  int line_number = 0;
+  for (size_t start = 0; start < text.size(); ++line_number) {
+    const size_t end = std::min(text.find('\n', start), text.size());
+    const std::string_view line(text.data() + start, end - start);
+    start = end + 1;
+    const auto refuse = [&](const char* why) {
+      ThrowError(fmt::format("{}:{}: {} ({}): only one YAML document is read", path.string(),
+                             line_number + 1, why, what));
+    };
+    if (BlankOrComment(line)) continue;
+    if (ended) refuse("content after the document's end '...'");
+    if (line.substr(0, 3) == "...") {
+      ended = true;
+    } else if (line.substr(0, 3) == "---") {
+      if (content) refuse("a second document '---'");
+      if (!BlankOrComment(line.substr(3))) refuse("content on the '---' line");
+      content = true;
+    } else if (line[0] != '%') {
+      content = true;
+    }
+  }
+}
+
 }  // namespace
 
 cv::FileStorage OpenFileStorage(const fs::path& path, const std::string& what) {
   CheckFileExists(path, what);
+  CheckSingleYamlDocument(path, what);
   cv::FileStorage storage;
   try {
     storage.open(path.string(), cv::FileStorage::READ);

@@ -205,6 +205,32 @@ TEST(ImportOpenCv, RealPanopticCalibrationRoundTrip) {
   }
 }
 
+// OpenCV's YAML parser never returns on these (multi-document input, see
+// io/file_storage.cc); they are refused, naming the file and the line, and a
+// file as cv::FileStorage writes it ('%YAML:1.0', '---', one document) reads.
+TEST(ImportOpenCv, OnlyOneYamlDocumentReachesOpenCvsParser) {
+  const fs::path dir = test_util::FreshTestDir("import_opencv", "yaml_documents");
+  const Camera cam = RingCameras(1, 64, 48)[0];
+  const fs::path good = dir / "good.yml";
+  {
+    cv::FileStorage out(good.string(), cv::FileStorage::WRITE);
+    out << "K" << ToCv(cam.K) << "rvec" << Rodrigues(cam.cam_from_world.rotation) << "tvec"
+        << Column(Eigen::Vector3d(1, 2, 3));
+  }
+  EXPECT_EQ(ReadTextFile(good).substr(0, 14), "%YAML:1.0\n---\n");
+  EXPECT_EQ(ReadOpenCvCalibration(good, 1).size(), 1u);
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"%YAML:1.0\n---%YAML:1.0\n-\n--\nK: 1\n", "content on the '---' line"},
+      {"%YAML:1.0\n---\nK: 1\n...\n-\n--\n", "content after the document's end"},
+      {"%YAML:1.0\nK: 1\n---\n- 1\n", "a second document"}};
+  for (size_t i = 0; i < bad.size(); ++i) {
+    const fs::path p = dir / ("bad" + std::to_string(i) + ".yml");
+    WriteTextFileAtomic(p, bad[i].first);
+    ExpectErrorMentions([&] { ReadOpenCvCalibration(p, 1); },
+                        {p.string(), bad[i].second, "only one YAML document"});
+  }
+}
+
 TEST(ImportOpenCv, BadFilesNameTheFileAndKey) {
   const fs::path dir = test_util::FreshTestDir("import_opencv", "bad");
   const Camera cam = RingCameras(1, 64, 48)[0];
