@@ -26,7 +26,7 @@ class BaselinesTest : public ::testing::Test {
     // default window is centred on the handshake, where they barely move.
     synth::SynthOptions o = synth::SmallHandshakeOptions(3, 320, 180, 3);
     o.start_frame = 128;
-    dir_ = synth::WriteCaptureToTempDir("eval_baselines_test", o);
+    dir_ = test_util::RemovedAtExit(synth::WriteCaptureToTempDir("eval_baselines_test", o));
     capture_ = ReadCapture(dir_);
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }

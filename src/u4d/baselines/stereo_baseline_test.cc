@@ -19,8 +19,8 @@ namespace {
 class StereoBaselineTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = synth::WriteCaptureToTempDir("eval_stereo_test",
-                                        synth::SmallHandshakeOptions(8, 480, 270, 2));
+    dir_ = test_util::RemovedAtExit(synth::WriteCaptureToTempDir(
+        "eval_stereo_test", synth::SmallHandshakeOptions(8, 480, 270, 2)));
     capture_ = ReadCapture(dir_);
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }

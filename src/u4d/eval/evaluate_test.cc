@@ -11,19 +11,14 @@
 #include "u4d/io/instance_mask.h"
 #include "u4d/io/layout.h"
 #include "u4d/util/check.h"
+#include "u4d/util/testing.h"
 
 namespace u4d::eval {
 namespace {
 
 constexpr int kFrames = 3;
 
-fs::path FreshDir(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("u4d_eval_test_" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path FreshDir(const std::string& name) { return test_util::FreshTestDir("eval_test", name); }
 
 open3d::geometry::TriangleMesh Square() {
   open3d::geometry::TriangleMesh m;

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "u4d/util/check.h"
+#include "u4d/util/testing.h"
 
 namespace u4d::eval {
 namespace {
@@ -83,8 +84,7 @@ TEST(Pose, ShelfTorsoUsesMidpointsAndMissingJoints) {
 }
 
 TEST(Pose, ReadWriteJson) {
-  const fs::path path =
-      fs::temp_directory_path() / ("u4d_pose_test_" + std::to_string(::getpid())) / "000000.json";
+  const fs::path path = test_util::FreshTestDir("pose_test", "json") / "000000.json";
   WritePoses3dJson(path, {Standing(4, 1)}, "h36m17");
   std::string skeleton;
   const auto back = ReadPoses3dJson(path, &skeleton);

@@ -33,7 +33,7 @@ class SceneEvalTest : public ::testing::Test {
     synth::SynthOptions o = synth::SmallHandshakeOptions(4, 320, 180, kFrames);
     o.write_meshes = true;
     o.start_frame = 10;
-    capture_dir_ = synth::WriteCaptureToTempDir("eval_scene_test", o);
+    capture_dir_ = test_util::RemovedAtExit(synth::WriteCaptureToTempDir("eval_scene_test", o));
     capture_ = ReadCapture(capture_dir_);
   }
   static void TearDownTestSuite() { fs::remove_all(capture_dir_); }

@@ -5,6 +5,7 @@
 
 #include "u4d/eval/evaluate.h"
 #include "u4d/synth/generate.h"
+#include "u4d/util/testing.h"
 
 namespace u4d {
 namespace {
@@ -14,7 +15,7 @@ class SynthEvalTest : public ::testing::Test {
   static void SetUpTestSuite() {
     synth::SynthOptions o = synth::SmallHandshakeOptions(4, 320, 180, 4);
     o.write_meshes = true;  // the projection error and Chamfer need them
-    dir_ = synth::WriteCaptureToTempDir("synth_eval_test", o);
+    dir_ = test_util::RemovedAtExit(synth::WriteCaptureToTempDir("synth_eval_test", o));
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
   static inline fs::path dir_;

@@ -19,6 +19,7 @@
 #include "u4d/io/poses.h"
 #include "u4d/synth/generate.h"
 #include "u4d/util/check.h"
+#include "u4d/util/testing.h"
 
 namespace u4d {
 namespace {
@@ -32,8 +33,8 @@ struct FrameData {
 class SparseSynthTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = synth::WriteCaptureToTempDir("features_sparse_test",
-                                        synth::SmallHandshakeOptions(5, 480, 270, 2));
+    dir_ = test_util::RemovedAtExit(synth::WriteCaptureToTempDir(
+        "features_sparse_test", synth::SmallHandshakeOptions(5, 480, 270, 2)));
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
   static FrameData Load(int frame) {
@@ -96,8 +97,8 @@ std::map<int, int> ObjectToGt(const std::vector<SparsePoint>& points, const Fram
 class SparseAccuracyTest : public SparseSynthTest {
  protected:
   static void SetUpTestSuite() {
-    dir_ = synth::WriteCaptureToTempDir("features_sparse_accuracy_test",
-                                        synth::SmallHandshakeOptions(8, 960, 540, 2));
+    dir_ = test_util::RemovedAtExit(synth::WriteCaptureToTempDir(
+        "features_sparse_accuracy_test", synth::SmallHandshakeOptions(8, 960, 540, 2)));
   }
 };
 

@@ -15,6 +15,7 @@
 #include "u4d/io/layout.h"
 #include "u4d/synth/generate.h"
 #include "u4d/testing/capture_inputs.h"
+#include "u4d/util/testing.h"
 
 namespace u4d {
 namespace {
@@ -22,8 +23,8 @@ namespace {
 class TemporalTracksTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = synth::WriteCaptureToTempDir("temporal_tracks_test",
-                                        synth::SmallHandshakeOptions(3, 480, 270, 6));
+    dir_ = test_util::RemovedAtExit(synth::WriteCaptureToTempDir(
+        "temporal_tracks_test", synth::SmallHandshakeOptions(3, 480, 270, 6)));
     capture_ = ReadCapture(dir_);
     for (int f = 0; f < capture_.num_frames; ++f) {
       poses_.push_back(ReadPoses3d(dir_ / layout::GtJoints3d(f)));

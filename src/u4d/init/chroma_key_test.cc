@@ -161,7 +161,8 @@ TEST(ChromaKey, KeyedSyntheticStageWithoutMasks) {
   o.render.gain_jitter = 0.08f;
   o.effects.motion_blur_shutter = 0.5;
   synth::UseKeyedStage(&o);
-  const Capture capture = ReadCapture(synth::WriteCaptureToTempDir("chroma_key_test", o));
+  const Capture capture =
+      ReadCapture(test_util::RemovedAtExit(synth::WriteCaptureToTempDir("chroma_key_test", o)));
   const KeyedResult r = RunKeyed(capture);
   std::printf("keyed stage: %d of %d views keyed; foreground IoU key alone %.4f, chain %.4f\n",
               r.keyed_views, capture.NumViews(), r.iou_key, r.iou_chain);
@@ -175,8 +176,8 @@ TEST(ChromaKey, AutoLeavesOrdinaryStagesUnkeyed) {
   for (const bool indoor : {true, false}) {
     synth::SynthOptions o = synth::SmallHandshakeOptions(4, 320, 240, 2);
     o.environment.indoor = indoor;
-    const Capture capture =
-        ReadCapture(synth::WriteCaptureToTempDir(indoor ? "chroma_room" : "chroma_outdoor", o));
+    const Capture capture = ReadCapture(test_util::RemovedAtExit(
+        synth::WriteCaptureToTempDir(indoor ? "chroma_room" : "chroma_outdoor", o)));
     FrameReader reader(capture);
     for (int v = 0; v < capture.NumViews(); ++v) {
       const ChromaKey key = ChooseChromaKey({reader.Read(v, 0)}, ChromaKeyOptions(), "v");

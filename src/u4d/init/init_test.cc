@@ -53,7 +53,7 @@ struct SynthFixture {
 // renders plus the frames, and from the frames alone.
 SynthFixture* MakeFixture(const std::string& name, const synth::SynthOptions& o) {
   auto* f = new SynthFixture;
-  f->capture = ReadCapture(synth::WriteCaptureToTempDir(name, o));
+  f->capture = ReadCapture(test_util::RemovedAtExit(synth::WriteCaptureToTempDir(name, o)));
   FrameReader reader(f->capture);
   const int nv = f->capture.NumViews();
   const int nt = f->capture.num_frames;

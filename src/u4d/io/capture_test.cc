@@ -13,13 +13,7 @@
 namespace u4d {
 namespace {
 
-fs::path FreshDir(const std::string& name) {
-  fs::path dir =
-      fs::temp_directory_path() / ("u4d_capture_test_" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path FreshDir(const std::string& name) { return test_util::FreshTestDir("capture_test", name); }
 
 Capture TwoViewCapture() { return test_util::TinyTwoViewCapture(); }
 

@@ -12,8 +12,7 @@ namespace u4d {
 namespace {
 
 fs::path TempDir() {
-  fs::path dir = fs::temp_directory_path() / ("u4d_image_io_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  static const fs::path dir = test_util::FreshTestDir("image_io_test", "files");
   return dir;
 }
 

@@ -26,8 +26,8 @@ class DepthCostSynthTest : public ::testing::Test {
   static constexpr int kRefView = 0;
 
   static void SetUpTestSuite() {
-    dir_ = synth::WriteCaptureToTempDir("joint_depth_test",
-                                        synth::SmallHandshakeOptions(8, 480, 270, 2));
+    dir_ = test_util::RemovedAtExit(synth::WriteCaptureToTempDir(
+        "joint_depth_test", synth::SmallHandshakeOptions(8, 480, 270, 2)));
     const Capture capture = ReadCapture(dir_);
     for (int v = 0; v < capture.NumViews(); ++v) {
       cameras_.push_back(capture.views[v].CameraAt(0));

@@ -32,7 +32,7 @@ class FlowCostTest : public ::testing::Test {
     // (the default window is centred on the handshake, where they stand).
     synth::SynthOptions o = synth::SmallHandshakeOptions(6, 320, 180, 3);
     o.start_frame = 128;
-    dir_ = synth::WriteCaptureToTempDir("joint_flow_test", o);
+    dir_ = test_util::RemovedAtExit(synth::WriteCaptureToTempDir("joint_flow_test", o));
     capture_ = ReadCapture(dir_);
     // Reference view: the one showing most GT-valid person pixels.
     int best = -1;

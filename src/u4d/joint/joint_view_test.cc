@@ -29,7 +29,8 @@ class JointViewSynthTest : public ::testing::Test {
   static void SetUpTestSuite() {
     synth::SynthOptions options = synth::SmallHandshakeOptions(6, 320, 180, 3);
     options.start_frame = 128;  // the people walk apart: there is motion to estimate
-    dir_ = new fs::path(synth::WriteCaptureToTempDir("joint_view", options));
+    dir_ =
+        new fs::path(test_util::RemovedAtExit(synth::WriteCaptureToTempDir("joint_view", options)));
   }
   static void TearDownTestSuite() { delete dir_; }
   // The frame's joint inputs with the GT 3D poses standing in for the
@@ -338,7 +339,8 @@ class JointViewMeetupTest : public ::testing::Test {
     o.rig.image_width = 320;
     o.rig.image_height = 180;
     o.num_frames = 2;
-    dir_ = new fs::path(synth::WriteCaptureToTempDir("joint_view_meetup", o));
+    dir_ = new fs::path(
+        test_util::RemovedAtExit(synth::WriteCaptureToTempDir("joint_view_meetup", o)));
     capture_ = new Capture(ReadCapture(*dir_));
     FrameReader reader(*capture_);
     const JointFrameData data = ReadJointFrameData(*capture_, &reader, 0, ReadGtPoses3d(*capture_));

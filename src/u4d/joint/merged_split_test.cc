@@ -17,6 +17,7 @@
 #include "u4d/synth/generate.h"
 #include "u4d/testing/capture_inputs.h"
 #include "u4d/testing/truth_inputs.h"
+#include "u4d/util/testing.h"
 
 namespace u4d {
 namespace {
@@ -29,7 +30,8 @@ class MergedSplitTest : public ::testing::Test {
     synth::SynthOptions options = synth::SmallHandshakeOptions(4, 256, 144, 3);
     options.start_frame = -1;        // centred on the handshake: the hands meet
     options.masks.merge_prob = 1.0;  // the detector merges every touching pair
-    dir_ = new fs::path(synth::WriteCaptureToTempDir("merged_split", options));
+    dir_ = new fs::path(
+        test_util::RemovedAtExit(synth::WriteCaptureToTempDir("merged_split", options)));
   }
   static void TearDownTestSuite() {
     fs::remove_all(*dir_);

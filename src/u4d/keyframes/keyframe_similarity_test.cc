@@ -14,6 +14,7 @@
 #include "u4d/synth/generate.h"
 #include "u4d/synth/rig.h"
 #include "u4d/testing/capture_inputs.h"
+#include "u4d/util/testing.h"
 
 namespace u4d {
 namespace {
@@ -280,7 +281,7 @@ class KeyframeCaptureTest : public ::testing::Test {
     synth::SynthOptions o = synth::SmallHandshakeOptions(2, 320, 180, 48);
     o.start_frame = 0;  // from the approach through the handshake
     o.fps = 8;          // the whole 6 s script (approach, handshake, stepping apart)
-    dir_ = synth::WriteCaptureToTempDir("keyframes_test", o);
+    dir_ = test_util::RemovedAtExit(synth::WriteCaptureToTempDir("keyframes_test", o));
     const Capture capture = ReadCapture(dir_);
     std::vector<std::vector<Pose3d>> poses;
     for (int f = 0; f < capture.num_frames; ++f)

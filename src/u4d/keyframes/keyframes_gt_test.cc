@@ -17,6 +17,7 @@
 #include "u4d/synth/generate.h"
 #include "u4d/testing/capture_inputs.h"
 #include "u4d/util/stats.h"
+#include "u4d/util/testing.h"
 
 namespace u4d {
 namespace {
@@ -27,7 +28,7 @@ class KeyframeGtTest : public ::testing::Test {
     synth::SynthOptions o = synth::SmallHandshakeOptions(4, 320, 180, 40);
     o.start_frame = 0;
     o.fps = 8;
-    dir_ = synth::WriteCaptureToTempDir("keyframes_gt_test", o);
+    dir_ = test_util::RemovedAtExit(synth::WriteCaptureToTempDir("keyframes_gt_test", o));
     capture_ = ReadCapture(dir_);
     for (int f = 0; f < capture_.num_frames; ++f)
       gt_poses_.push_back(ReadPoses3d(dir_ / layout::GtJoints3d(f)));

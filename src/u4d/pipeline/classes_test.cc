@@ -46,8 +46,8 @@ int MajorityGtId(const cv::Mat& ids, int id, const cv::Mat& gt) {
 // instances that mostly cover GT person 2, and GT person 2 itself, are of
 // class "box".
 fs::path CaptureWithABox(const std::string& name) {
-  const fs::path root =
-      synth::WriteCaptureToTempDir(name, synth::SmallHandshakeOptions(4, 320, 180, 3));
+  const fs::path root = test_util::RemovedAtExit(
+      synth::WriteCaptureToTempDir(name, synth::SmallHandshakeOptions(4, 320, 180, 3)));
   const Capture cap = ReadCapture(root);
   for (const CaptureView& view : cap.views)
     for (int f = 0; f < cap.num_frames; ++f) {

@@ -20,8 +20,8 @@ namespace {
 
 // 3 views at 160x90, 2 frames, with masks and 2D keypoints.
 fs::path TinyCapture(const std::string& name) {
-  return synth::WriteCaptureToTempDir("pipeline_resume_" + name,
-                                      synth::SmallHandshakeOptions(3, 160, 90, 2));
+  return test_util::RemovedAtExit(synth::WriteCaptureToTempDir(
+      "pipeline_resume_" + name, synth::SmallHandshakeOptions(3, 160, 90, 2)));
 }
 
 // The bookkeeping is under test, not the quality.

@@ -33,7 +33,7 @@ namespace {
 fs::path SmallCapture() {
   synth::SynthOptions o = synth::SmallHandshakeOptions(4, 320, 180, 3);
   o.write_meshes = true;
-  return synth::WriteCaptureToTempDir("pipeline", o);
+  return test_util::RemovedAtExit(synth::WriteCaptureToTempDir("pipeline", o));
 }
 
 RunOptions FastOptions() {
@@ -144,7 +144,8 @@ TEST(PipelineTest, RealisticWorldFromTheDetectorsMasksAlone) {
   o.rig.image_height = 270;
   o.num_frames = 3;
   o.seed = 11;  // not among the seeds the detector model was tuned on
-  const fs::path capture = synth::WriteCaptureToTempDir("pipeline_realistic", o);
+  const fs::path capture =
+      test_util::RemovedAtExit(synth::WriteCaptureToTempDir("pipeline_realistic", o));
   const fs::path scene = test_util::FreshTestDir("pipeline", "realistic_scene");
   const RunResult run = RunPipeline(capture, scene, FastOptions());
   EXPECT_EQ(run.log.masks, "given");
@@ -391,7 +392,8 @@ TEST(PipelineTest, CorruptFrameAndMismatchedOptionsFailClearly) {
 // allow_empty the same directory resumes and succeeds with no object.
 TEST(PipelineTest, NothingFoundFailsUnlessAllowed) {
   synth::SynthOptions so = synth::SmallHandshakeOptions(3, 160, 90, 2);
-  const fs::path capture = synth::WriteCaptureToTempDir("pipeline_empty", so);
+  const fs::path capture =
+      test_util::RemovedAtExit(synth::WriteCaptureToTempDir("pipeline_empty", so));
   const Capture cap = ReadCapture(capture);
   for (const CaptureView& v : cap.views)
     for (int f = 0; f < cap.num_frames; ++f)

@@ -16,6 +16,7 @@
 #include "u4d/synth/generate.h"
 #include "u4d/synth/rig.h"
 #include "u4d/util/check.h"
+#include "u4d/util/testing.h"
 
 namespace u4d {
 namespace {
@@ -108,8 +109,8 @@ TEST(MultiViewPose, BadInputThrows) {
 class SyntheticPoseTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = synth::WriteCaptureToTempDir("pose_test",
-                                        synth::SmallHandshakeOptions(6, 320, 180, kFrames));
+    dir_ = test_util::RemovedAtExit(synth::WriteCaptureToTempDir(
+        "pose_test", synth::SmallHandshakeOptions(6, 320, 180, kFrames)));
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
   static constexpr int kFrames = 10;

@@ -10,6 +10,7 @@
 #include "u4d/io/layout.h"
 #include "u4d/pose/given_poses.h"
 #include "u4d/util/check.h"
+#include "u4d/util/testing.h"
 
 namespace u4d {
 namespace {
@@ -84,9 +85,7 @@ TEST(PoseTracking, BadOptionsThrow) {
 }
 
 TEST(GivenPoses, PassThroughKeepsPosesAndIdsAndNamesMissingFiles) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("u4d_given_poses_test_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+  const fs::path dir = test_util::FreshTestDir("given_poses_test", "poses");
   Pose3d p = PoseAt(Eigen::Vector3d(1, 2, 3));
   p.person_id = 7;
   fs::create_directories((dir / layout::Poses3d(0)).parent_path());

@@ -114,7 +114,7 @@ TEST(CapturedTest, RealisticGroundTruthMatchesTheMeshes) {
   o.rig.image_width = 480;
   o.rig.image_height = 270;
   o.seed = 5;
-  const fs::path dir = WriteCaptureToTempDir("captured_gt", o);
+  const fs::path dir = test_util::RemovedAtExit(WriteCaptureToTempDir("captured_gt", o));
   const Capture capture = ReadCapture(dir);
   std::vector<double> depth_errors, flow_errors;
   for (int v = 0; v < capture.NumViews(); ++v) {

@@ -11,6 +11,7 @@
 #include "u4d/io/instance_mask.h"
 #include "u4d/io/layout.h"
 #include "u4d/io/poses.h"
+#include "u4d/util/testing.h"
 
 namespace u4d::synth {
 namespace {
@@ -20,7 +21,7 @@ class GenerateTest : public ::testing::Test {
   static void SetUpTestSuite() {
     SynthOptions o = SmallHandshakeOptions(4, 240, 136, 3);
     o.write_meshes = true;
-    dir_ = WriteCaptureToTempDir("generate_test", o, &summary_);
+    dir_ = test_util::RemovedAtExit(WriteCaptureToTempDir("generate_test", o, &summary_));
   }
   static inline fs::path dir_;
   static inline SynthSummary summary_;

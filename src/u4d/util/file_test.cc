@@ -1,4 +1,5 @@
 #include "u4d/util/file.h"
+#include "u4d/util/testing.h"
 
 #include <fstream>
 
@@ -8,8 +9,7 @@ namespace u4d {
 namespace {
 
 fs::path TempDir() {
-  fs::path dir = fs::temp_directory_path() / ("u4d_file_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  static const fs::path dir = test_util::FreshTestDir("file_test", "files");
   return dir;
 }
 
@@ -89,9 +89,7 @@ TEST(File, ParseIndexNameAcceptsOnlyDecimalIndices) {
 
 TEST(File, WriteIntoAnUnwritablePlaceNamesThePath) {
   // A regular file where a parent directory should be.
-  const fs::path dir =
-      fs::temp_directory_path() / ("u4d_file_test_w_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const fs::path dir = test_util::FreshTestDir("file_test", "unwritable");
   WriteTextFileAtomic(dir / "blocker", "x");
   try {
     WriteTextFileAtomic(dir / "blocker" / "sub" / "a.txt", "y");

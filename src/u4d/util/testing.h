@@ -34,6 +34,13 @@ class TempDirs {
   std::set<fs::path> dirs_;
 };
 
+// `dir` (a folder this test process made, e.g. by synth::WriteCaptureToTempDir),
+// removed when the process exits as the folders of FreshTestDir are.
+inline fs::path RemovedAtExit(const fs::path& dir) {
+  TempDirs::Register(dir);
+  return dir;
+}
+
 // An empty directory <tmp>/u4d_<suite>_<pid>/<name>: one per process, since
 // ctest runs the tests of a suite in separate processes, in parallel.
 // <tmp>/u4d_<suite>_<pid> goes when the process exits (TempDirs).
