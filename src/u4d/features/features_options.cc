@@ -56,6 +56,19 @@ void DeclareOptions(OptionRegistry& r, ObjectRegionOptions* o) {
   r.Add("hull_far_m", &o->hull_far_m, "visual hull search: farthest depth");
   r.Add("hull_depth_steps", &o->hull_depth_steps, "depth samples per ray (geometric spacing)");
   r.Add("hull_max_pixels", &o->hull_max_pixels, "rays sampled per region");
+  r.Nested("silhouette", &o->silhouette);
+}
+
+void DeclareOptions(OptionRegistry& r, SilhouettePointOptions* o) {
+  r.Add("max_side", &o->max_side, "masks are tested at this longest side (pixels)");
+  r.Add("pixels_per_view", &o->pixels_per_view,
+        "rays cast per view (a regular sample of its foreground)");
+  r.Add("depth_samples", &o->depth_samples, "depths per ray, even in inverse depth");
+  r.Add("min_depth_m", &o->min_depth_m, "nearest depth tested");
+  r.Add("min_views_seeing", &o->min_views_seeing,
+        "other views that must see a point (inside their image)");
+  r.Add("min_foreground_share", &o->min_foreground_share,
+        "share of the other views seeing a point that must hold it in their foreground");
 }
 
 void DeclareOptions(OptionRegistry& r, TemporalTrackOptions* o) {

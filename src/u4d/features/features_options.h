@@ -18,6 +18,7 @@ void DeclareOptions(OptionRegistry& r, SparseOptions* o);
 void DeclareOptions(OptionRegistry& r, KeypointOptions* o);
 void DeclareOptions(OptionRegistry& r, MatchingOptions* o);
 void DeclareOptions(OptionRegistry& r, ObjectRegionOptions* o);
+void DeclareOptions(OptionRegistry& r, SilhouettePointOptions* o);
 void DeclareOptions(OptionRegistry& r, TemporalTrackOptions* o);
 
 }  // namespace u4d

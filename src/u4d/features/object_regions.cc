@@ -11,6 +11,7 @@
 namespace u4d {
 
 void ObjectRegionOptions::Check() const {
+  silhouette.Check();
   U4D_CHECK(percentile_near >= 0 && percentile_near <= percentile_far && percentile_far <= 1,
             "ObjectRegionOptions: need 0 <= percentile_near <= percentile_far <= 1, got {} and {}",
             percentile_near, percentile_far);

@@ -29,6 +29,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "u4d/features/silhouette_points.h"
 #include "u4d/features/sparse_points.h"
 #include "u4d/io/poses.h"
 
@@ -46,6 +47,9 @@ struct ObjectRegionOptions {
   double hull_far_m = 30.0;           // visual hull search: farthest depth
   int hull_depth_steps = 256;         // depth samples per ray (geometric spacing)
   int hull_max_pixels = 400;          // rays sampled per region
+  // The visual hull's surface points that join the feature points without
+  // poses (pipeline/initial_objects.h ObjectsFromSparse).
+  SilhouettePointOptions silhouette;
 
   void Check() const;  // throws u4d::Error naming the field on a bad value
 };

@@ -175,7 +175,8 @@ FrameObjects ObjectsFromSparse(const std::vector<Camera>& cameras,
             masks.size());
   SparseFrame sparse = ReconstructSparseFrame(cameras, images, masks, sparse_options);
   std::vector<SparsePoint> evidence = sparse.points;
-  for (SparsePoint& p : SilhouettePoints(cameras, masks)) evidence.push_back(std::move(p));
+  for (SparsePoint& p : SilhouettePoints(cameras, masks, region_options.silhouette))
+    evidence.push_back(std::move(p));
   if (ids_alike_across_views) {
     sparse.association = IdentityAssociation(masks);
   } else {
