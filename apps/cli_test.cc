@@ -148,18 +148,18 @@ TEST(Cli, RunConfigSetAndFlagsOverrideAnyOption) {
   const fs::path config = dir / "config.json";
   WriteJsonFileAtomic(config, {{"paper_weights", false},
                                {"joint", {{"rounds", 3}, {"weights", {{"flow", 0.6}}}}},
-                               {"init", {{"threshold_sigmas", 5.5}}},
+                               {"init", {{"foreground", {{"threshold_sigmas", 5.5}}}}},
                                {"frame_setup", {{"working_width", 200}}}});
   const fs::path scene = dir / "scene";
   RunU4d({"run", cap.string(), "-o", scene.string(), "--no-progress", "--config", config.string(),
-          "--set", "frame_setup.working_width=160", "--set", "init.box_fill=always", "--rounds",
-          "4"});
+          "--set", "frame_setup.working_width=160", "--set", "init.people.box_fill=always",
+          "--rounds", "4"});
   const nlohmann::json p = ReadJsonFile(scene / "params.json");
   EXPECT_EQ(p["joint"]["rounds"], 4);
   EXPECT_EQ(p["joint"]["weights"]["flow"], 0.6);
   EXPECT_EQ(p["paper_weights"], false);
-  EXPECT_EQ(p["init"]["threshold_sigmas"], 5.5);
-  EXPECT_EQ(p["init"]["box_fill"], "always");
+  EXPECT_EQ(p["init"]["foreground"]["threshold_sigmas"], 5.5);
+  EXPECT_EQ(p["init"]["people"]["box_fill"], "always");
   EXPECT_EQ(p["frame_setup"]["working_width"], 160);
   EXPECT_EQ(p["progress"], false);
 

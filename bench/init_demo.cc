@@ -92,17 +92,21 @@ int main(int argc, char** argv) {
     std::vector<cv::Mat> rows;
     InitOptions options;
     // Environment overrides for experiments (docs/init.md).
-    if (const char* g = std::getenv("U4D_INIT_GRABCUT")) options.grabcut_iterations = std::atoi(g);
-    if (const char* g = std::getenv("U4D_INIT_BOX_FILL")) options.box_fill = BoxFillFromString(g);
+    if (const char* g = std::getenv("U4D_INIT_GRABCUT"))
+      options.people.grabcut_iterations = std::atoi(g);
+    if (const char* g = std::getenv("U4D_INIT_BOX_FILL"))
+      options.people.box_fill = BoxFillFromString(g);
     if (const char* g = std::getenv("U4D_INIT_STILL"))
-      options.still_grabcut_iterations = std::atoi(g);
+      options.still.still_grabcut_iterations = std::atoi(g);
     if (const char* g = std::getenv("U4D_INIT_CARVE_STILL"))
-      options.carve_still_fill = std::atoi(g) != 0;
-    if (const char* g = std::getenv("U4D_INIT_GHOSTS")) options.remove_ghosts = std::atoi(g) != 0;
-    if (const char* g = std::getenv("U4D_INIT_HOG")) options.use_hog = std::atoi(g) != 0;
-    if (const char* g = std::getenv("U4D_INIT_CROSS_VIEW")) options.cross_view = std::atoi(g) != 0;
+      options.still.carve_still_fill = std::atoi(g) != 0;
+    if (const char* g = std::getenv("U4D_INIT_GHOSTS"))
+      options.still.remove_ghosts = std::atoi(g) != 0;
+    if (const char* g = std::getenv("U4D_INIT_HOG")) options.people.use_hog = std::atoi(g) != 0;
+    if (const char* g = std::getenv("U4D_INIT_CROSS_VIEW"))
+      options.cross_view.enabled = std::atoi(g) != 0;
     if (const char* g = std::getenv("U4D_INIT_OCCUPANCY"))
-      options.ground_occupancy = std::atoi(g) != 0;
+      options.ground.enabled = std::atoi(g) != 0;
     for (const int f : frames) {
       std::vector<cv::Mat> images(nv);
       for (int v = 0; v < nv; ++v) images[v] = reader.Read(v, f);

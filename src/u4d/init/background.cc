@@ -203,7 +203,7 @@ cv::Mat ForegroundMask(const cv::Mat& image_bgr, const BackgroundModel& backgrou
 
 cv::Mat ForegroundFromLab(const cv::Mat& lab, const BackgroundModel& background,
                           const InitOptions& options) {
-  const double global = std::max(background.sigma, options.min_noise_sigma);
+  const double global = std::max(background.sigma, options.foreground.min_noise_sigma);
   cv::Mat fg(lab.size(), CV_8UC1, cv::Scalar(0));
   tbb::parallel_for(0, lab.rows, [&](int y) {
     const cv::Vec3b* p = lab.ptr<cv::Vec3b>(y);
@@ -213,13 +213,14 @@ cv::Mat ForegroundFromLab(const cv::Mat& lab, const BackgroundModel& background,
     for (int x = 0; x < lab.cols; ++x) {
       const double noise = std::max(global, static_cast<double>(ps[x]));
       const double d = LabDistance(p[x], b[x]);
-      if (d <= options.threshold_sigmas * noise) continue;
-      if (options.suppress_shadows && b[x][0] > 0) {
+      if (d <= options.foreground.threshold_sigmas * noise) continue;
+      if (options.foreground.suppress_shadows && b[x][0] > 0) {
         const double ratio = static_cast<double>(p[x][0]) / b[x][0];
         const double da = static_cast<double>(p[x][1]) - b[x][1];
         const double db = static_cast<double>(p[x][2]) - b[x][2];
-        if (ratio >= options.shadow_min_ratio && ratio <= options.shadow_max_ratio &&
-            std::sqrt(da * da + db * db) <= options.shadow_chroma_sigmas * noise) {
+        if (ratio >= options.foreground.shadow_min_ratio &&
+            ratio <= options.foreground.shadow_max_ratio &&
+            std::sqrt(da * da + db * db) <= options.foreground.shadow_chroma_sigmas * noise) {
           continue;
         }
       }
@@ -230,14 +231,14 @@ cv::Mat ForegroundFromLab(const cv::Mat& lab, const BackgroundModel& background,
 }
 
 cv::Mat CleanMask(const cv::Mat& mask, const InitOptions& options) {
-  const int r =
-      options.morph_radius_px > 0 ? options.morph_radius_px : std::max(1, (mask.rows + 180) / 360);
+  const int r = options.foreground.morph_radius_px > 0 ? options.foreground.morph_radius_px
+                                                       : std::max(1, (mask.rows + 180) / 360);
   const cv::Mat kernel =
       cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
   cv::Mat m;
   cv::morphologyEx(mask, m, cv::MORPH_OPEN, kernel);
   cv::morphologyEx(m, m, cv::MORPH_CLOSE, kernel);
-  const double min_area = options.min_blob_fraction * mask.total();
+  const double min_area = options.foreground.min_blob_fraction * mask.total();
   RemoveSmallComponents(m, min_area);
   // Fill small holes: small background components.
   cv::Mat holes = 255 - m;

@@ -52,7 +52,7 @@ std::vector<cv::Mat> CrossViewConsistentMasks(const std::vector<Camera>& cameras
               "CrossViewConsistentMasks: mask {} is {}x{}, its camera {}x{}", v, masks[v].cols,
               masks[v].rows, cameras[v].width, cameras[v].height);
   }
-  double far = options.max_depth_m;
+  double far = options.cross_view.max_depth_m;
   if (far <= 0) {
     double baseline = 0;
     for (int a = 0; a < nv; ++a)
@@ -61,16 +61,16 @@ std::vector<cv::Mat> CrossViewConsistentMasks(const std::vector<Camera>& cameras
     U4D_CHECK(baseline > 0, "CrossViewConsistentMasks: all cameras share one centre");
     far = 1.5 * baseline;
   }
-  U4D_CHECK(far > options.min_depth_m,
+  U4D_CHECK(far > options.cross_view.min_depth_m,
             "CrossViewConsistentMasks: max depth {} m must exceed min_depth_m {} m", far,
-            options.min_depth_m);
+            options.cross_view.min_depth_m);
 
-  const ReducedMasks reduced =
-      ReduceMasks(cameras, masks, options.consistency_max_side, options.consistency_dilation_px);
+  const ReducedMasks reduced = ReduceMasks(cameras, masks, options.cross_view.consistency_max_side,
+                                           options.cross_view.consistency_dilation_px);
   const std::vector<Camera>& small = reduced.cameras;
   const std::vector<cv::Mat>&source = reduced.source, &target = reduced.target;
   // With few views the requirement is capped at what exists.
-  const int min_seeing = std::min(options.min_views_seeing, nv - 1);
+  const int min_seeing = std::min(options.cross_view.min_views_seeing, nv - 1);
   std::vector<cv::Mat> consistent(nv);
   for (int v = 0; v < nv; ++v) {
     consistent[v] = cv::Mat::zeros(source[v].size(), CV_8UC1);
@@ -84,7 +84,7 @@ std::vector<cv::Mat> CrossViewConsistentMasks(const std::vector<Camera>& cameras
         // March along the ray with steps that move its projection in the
         // other views by about step_px (adapted from the previous step).
         bool ok = false;
-        double z = options.min_depth_m, step = 0.01 * z;
+        double z = options.cross_view.min_depth_m, step = 0.01 * z;
         std::vector<Eigen::Vector2d> prev(nv);
         bool have_prev = false;
         for (int it = 0; it < kMaxSteps && z <= far && !ok; ++it) {
@@ -104,9 +104,10 @@ std::vector<cv::Mat> CrossViewConsistentMasks(const std::vector<Camera>& cameras
             const int py = std::clamp(static_cast<int>(std::lround(p.y())), 0, small[o].height - 1);
             if (target[o].at<uint8_t>(py, px)) ++fg;
           }
-          ok = inside >= min_seeing && fg >= std::ceil(options.min_view_fraction * inside - 1e-9) &&
-               fg > 0;
-          if (have_prev && moved > 0) step *= std::clamp(options.step_px / moved, 0.5, 2.0);
+          ok = inside >= min_seeing &&
+               fg >= std::ceil(options.cross_view.min_view_fraction * inside - 1e-9) && fg > 0;
+          if (have_prev && moved > 0)
+            step *= std::clamp(options.cross_view.step_px / moved, 0.5, 2.0);
           step = std::clamp(step, 1e-3, 0.25);
           have_prev = true;
           z += step;
@@ -135,9 +136,10 @@ std::vector<cv::Mat> CrossViewConsistentMasks(const std::vector<Camera>& cameras
     }
     std::vector<uint8_t> keep(n, 0);
     for (int i = 1; i < n; ++i)
-      keep[i] = good[i] >= options.min_consistent_fraction * stats.at<int>(i, cv::CC_STAT_AREA);
+      keep[i] = good[i] >=
+                options.cross_view.min_consistent_fraction * stats.at<int>(i, cv::CC_STAT_AREA);
     cv::Mat carve;
-    if (options.carve_pixels) {
+    if (options.cross_view.carve_pixels) {
       const double s = static_cast<double>(masks[v].cols) / small[v].width;
       const int r = std::max(1, static_cast<int>(std::ceil(s)));
       cv::dilate(up, carve,
@@ -149,7 +151,7 @@ std::vector<cv::Mat> CrossViewConsistentMasks(const std::vector<Camera>& cameras
       uint8_t* o = out[v].ptr<uint8_t>(y);
       for (int x = 0; x < labels.cols; ++x) {
         if (l[x] <= 0 || !keep[l[x]]) continue;
-        if (options.carve_pixels && !carve.at<uint8_t>(y, x)) continue;
+        if (options.cross_view.carve_pixels && !carve.at<uint8_t>(y, x)) continue;
         o[x] = 255;
       }
     }

@@ -35,102 +35,126 @@ std::vector<cv::Mat> Instances(const std::vector<Camera>& cameras,
 }  // namespace
 
 bool UsesGroundOccupancy(const InitOptions& options, int num_cameras) {
-  return options.ground_occupancy && num_cameras >= std::max(2, options.occupancy_min_views);
+  return options.ground.enabled && num_cameras >= std::max(2, options.ground.occupancy_min_views);
 }
 
-void InitOptions::Check() const {
-  U4D_CHECK(threshold_sigmas > 0, "InitOptions.threshold_sigmas must be > 0, found {}",
+void ForegroundOptions::Check() const {
+  U4D_CHECK(threshold_sigmas > 0, "ForegroundOptions.threshold_sigmas must be > 0, found {}",
             threshold_sigmas);
-  U4D_CHECK(min_noise_sigma >= 0, "InitOptions.min_noise_sigma must be >= 0, found {}",
+  U4D_CHECK(min_noise_sigma >= 0, "ForegroundOptions.min_noise_sigma must be >= 0, found {}",
             min_noise_sigma);
-  U4D_CHECK(shadow_min_ratio > 0 && shadow_min_ratio <= shadow_max_ratio && shadow_max_ratio < 1,
-            "InitOptions.shadow_min_ratio/shadow_max_ratio must satisfy 0 < min <= max < 1, found "
-            "{} and {}",
-            shadow_min_ratio, shadow_max_ratio);
-  U4D_CHECK(shadow_chroma_sigmas >= 0, "InitOptions.shadow_chroma_sigmas must be >= 0, found {}",
-            shadow_chroma_sigmas);
-  U4D_CHECK(morph_radius_px >= 0, "InitOptions.morph_radius_px must be >= 0, found {}",
+  U4D_CHECK(
+      shadow_min_ratio > 0 && shadow_min_ratio <= shadow_max_ratio && shadow_max_ratio < 1,
+      "ForegroundOptions.shadow_min_ratio/shadow_max_ratio must satisfy 0 < min <= max < 1, found "
+      "{} and {}",
+      shadow_min_ratio, shadow_max_ratio);
+  U4D_CHECK(shadow_chroma_sigmas >= 0,
+            "ForegroundOptions.shadow_chroma_sigmas must be >= 0, found {}", shadow_chroma_sigmas);
+  U4D_CHECK(morph_radius_px >= 0, "ForegroundOptions.morph_radius_px must be >= 0, found {}",
             morph_radius_px);
   U4D_CHECK(min_blob_fraction >= 0 && min_blob_fraction < 1,
-            "InitOptions.min_blob_fraction must be in [0, 1), found {}", min_blob_fraction);
-  U4D_CHECK(consistency_max_side >= 16, "InitOptions.consistency_max_side must be >= 16, found {}",
-            consistency_max_side);
-  U4D_CHECK(step_px > 0.05 && step_px <= 10, "InitOptions.step_px must be in (0.05, 10], found {}",
-            step_px);
-  U4D_CHECK(min_depth_m > 0, "InitOptions.min_depth_m must be > 0, found {}", min_depth_m);
+            "ForegroundOptions.min_blob_fraction must be in [0, 1), found {}", min_blob_fraction);
+}
+
+void CrossViewOptions::Check() const {
+  U4D_CHECK(consistency_max_side >= 16,
+            "CrossViewOptions.consistency_max_side must be >= 16, found {}", consistency_max_side);
+  U4D_CHECK(step_px > 0.05 && step_px <= 10,
+            "CrossViewOptions.step_px must be in (0.05, 10], found {}", step_px);
+  U4D_CHECK(min_depth_m > 0, "CrossViewOptions.min_depth_m must be > 0, found {}", min_depth_m);
   U4D_CHECK(max_depth_m == 0 || max_depth_m > min_depth_m,
-            "InitOptions.max_depth_m must be 0 (auto) or > min_depth_m ({}), found {}", min_depth_m,
-            max_depth_m);
+            "CrossViewOptions.max_depth_m must be 0 (auto) or > min_depth_m ({}), found {}",
+            min_depth_m, max_depth_m);
   U4D_CHECK(min_view_fraction > 0 && min_view_fraction <= 1,
-            "InitOptions.min_view_fraction must be in (0, 1], found {}", min_view_fraction);
-  U4D_CHECK(min_views_seeing >= 1, "InitOptions.min_views_seeing must be >= 1, found {}",
+            "CrossViewOptions.min_view_fraction must be in (0, 1], found {}", min_view_fraction);
+  U4D_CHECK(min_views_seeing >= 1, "CrossViewOptions.min_views_seeing must be >= 1, found {}",
             min_views_seeing);
   U4D_CHECK(consistency_dilation_px >= 0,
-            "InitOptions.consistency_dilation_px must be >= 0, found {}", consistency_dilation_px);
+            "CrossViewOptions.consistency_dilation_px must be >= 0, found {}",
+            consistency_dilation_px);
   U4D_CHECK(min_consistent_fraction >= 0 && min_consistent_fraction <= 1,
-            "InitOptions.min_consistent_fraction must be in [0, 1], found {}",
+            "CrossViewOptions.min_consistent_fraction must be in [0, 1], found {}",
             min_consistent_fraction);
-  U4D_CHECK(min_person_height_px >= 16, "InitOptions.min_person_height_px must be >= 16, found {}",
-            min_person_height_px);
-  U4D_CHECK(hog_max_side >= 128, "InitOptions.hog_max_side must be >= 128, found {}", hog_max_side);
+}
+
+void PeopleOptions::Check() const {
+  U4D_CHECK(min_person_height_px >= 16,
+            "PeopleOptions.min_person_height_px must be >= 16, found {}", min_person_height_px);
+  U4D_CHECK(hog_max_side >= 128, "PeopleOptions.hog_max_side must be >= 128, found {}",
+            hog_max_side);
   U4D_CHECK(profile_valley_ratio > 0 && profile_valley_ratio < 1,
-            "InitOptions.profile_valley_ratio must be in (0, 1), found {}", profile_valley_ratio);
+            "PeopleOptions.profile_valley_ratio must be in (0, 1), found {}", profile_valley_ratio);
   U4D_CHECK(min_instance_fraction >= 0 && min_instance_fraction < 1,
-            "InitOptions.min_instance_fraction must be in [0, 1), found {}", min_instance_fraction);
-  U4D_CHECK(grabcut_iterations >= 0, "InitOptions.grabcut_iterations must be >= 0, found {}",
+            "PeopleOptions.min_instance_fraction must be in [0, 1), found {}",
+            min_instance_fraction);
+  U4D_CHECK(grabcut_iterations >= 0, "PeopleOptions.grabcut_iterations must be >= 0, found {}",
             grabcut_iterations);
-  U4D_CHECK(group_radius_px >= 0, "InitOptions.group_radius_px must be >= 0, found {}",
+  U4D_CHECK(group_radius_px >= 0, "PeopleOptions.group_radius_px must be >= 0, found {}",
             group_radius_px);
   U4D_CHECK(box_min_coverage >= 0 && box_min_coverage <= 1,
-            "InitOptions.box_min_coverage must be in [0, 1], found {}", box_min_coverage);
+            "PeopleOptions.box_min_coverage must be in [0, 1], found {}", box_min_coverage);
   U4D_CHECK(grabcut_box_iterations >= 1,
-            "InitOptions.grabcut_box_iterations must be >= 1, found {}", grabcut_box_iterations);
+            "PeopleOptions.grabcut_box_iterations must be >= 1, found {}", grabcut_box_iterations);
+  U4D_CHECK(grabcut_max_side >= 16, "PeopleOptions.grabcut_max_side must be >= 16, found {}",
+            grabcut_max_side);
+}
+
+void StillOptions::Check() const {
   U4D_CHECK(still_grabcut_iterations >= 0,
-            "InitOptions.still_grabcut_iterations must be >= 0, found {}",
+            "StillOptions.still_grabcut_iterations must be >= 0, found {}",
             still_grabcut_iterations);
   U4D_CHECK(envelope_dilation >= 0 && envelope_dilation < 1,
-            "InitOptions.envelope_dilation must be in [0, 1), found {}", envelope_dilation);
+            "StillOptions.envelope_dilation must be in [0, 1), found {}", envelope_dilation);
   U4D_CHECK(envelope_ring > 0 && envelope_ring < 1,
-            "InitOptions.envelope_ring must be in (0, 1), found {}", envelope_ring);
-  U4D_CHECK(ghost_edge_ratio > 0, "InitOptions.ghost_edge_ratio must be > 0, found {}",
+            "StillOptions.envelope_ring must be in (0, 1), found {}", envelope_ring);
+  U4D_CHECK(ghost_edge_ratio > 0, "StillOptions.ghost_edge_ratio must be > 0, found {}",
             ghost_edge_ratio);
-  U4D_CHECK(still_max_side >= 32, "InitOptions.still_max_side must be >= 32, found {}",
+  U4D_CHECK(still_max_side >= 32, "StillOptions.still_max_side must be >= 32, found {}",
             still_max_side);
-  U4D_CHECK(occupancy_min_views >= 2, "InitOptions.occupancy_min_views must be >= 2, found {}",
+}
+
+void GroundOptions::Check() const {
+  U4D_CHECK(occupancy_min_views >= 2, "GroundOptions.occupancy_min_views must be >= 2, found {}",
             occupancy_min_views);
-  U4D_CHECK(occupancy_max_side >= 16, "InitOptions.occupancy_max_side must be >= 16, found {}",
+  U4D_CHECK(occupancy_max_side >= 16, "GroundOptions.occupancy_max_side must be >= 16, found {}",
             occupancy_max_side);
   U4D_CHECK(occupancy_cells >= 8 && occupancy_cells <= 1024,
-            "InitOptions.occupancy_cells must be in [8, 1024], found {}", occupancy_cells);
-  U4D_CHECK(occupancy_extent > 0, "InitOptions.occupancy_extent must be > 0, found {}",
+            "GroundOptions.occupancy_cells must be in [8, 1024], found {}", occupancy_cells);
+  U4D_CHECK(occupancy_extent > 0, "GroundOptions.occupancy_extent must be > 0, found {}",
             occupancy_extent);
-  U4D_CHECK(min_column_height_m >= 0, "InitOptions.min_column_height_m must be >= 0, found {}",
+  U4D_CHECK(min_column_height_m >= 0, "GroundOptions.min_column_height_m must be >= 0, found {}",
             min_column_height_m);
   U4D_CHECK(min_lone_height_m >= min_column_height_m && min_lone_height_m <= min_person_height_m,
-            "InitOptions.min_lone_height_m must be in [min_column_height_m, min_person_height_m] "
+            "GroundOptions.min_lone_height_m must be in [min_column_height_m, min_person_height_m] "
             "= [{}, {}], found {}",
             min_column_height_m, min_person_height_m, min_lone_height_m);
   U4D_CHECK(previous_radius_m >= 0 && std::isfinite(previous_radius_m),
-            "InitOptions.previous_radius_m must be finite and >= 0, found {}", previous_radius_m);
+            "GroundOptions.previous_radius_m must be finite and >= 0, found {}", previous_radius_m);
   U4D_CHECK(min_person_height_m >= min_column_height_m,
-            "InitOptions.min_person_height_m must be >= min_column_height_m ({}), found {}",
+            "GroundOptions.min_person_height_m must be >= min_column_height_m ({}), found {}",
             min_column_height_m, min_person_height_m);
-  U4D_CHECK(person_smoothing_m >= 0, "InitOptions.person_smoothing_m must be >= 0, found {}",
+  U4D_CHECK(person_smoothing_m >= 0, "GroundOptions.person_smoothing_m must be >= 0, found {}",
             person_smoothing_m);
   U4D_CHECK(person_saddle_ratio > 0 && person_saddle_ratio <= 1,
-            "InitOptions.person_saddle_ratio must be in (0, 1], found {}", person_saddle_ratio);
+            "GroundOptions.person_saddle_ratio must be in (0, 1], found {}", person_saddle_ratio);
   U4D_CHECK(min_exclusive_share >= 0 && min_exclusive_share <= 1,
-            "InitOptions.min_exclusive_share must be in [0, 1], found {}", min_exclusive_share);
+            "GroundOptions.min_exclusive_share must be in [0, 1], found {}", min_exclusive_share);
   U4D_CHECK(min_split_share > 0 && min_split_share <= 1,
-            "InitOptions.min_split_share must be in (0, 1], found {}", min_split_share);
+            "GroundOptions.min_split_share must be in (0, 1], found {}", min_split_share);
   U4D_CHECK(instance_split_view_share >= 0 && instance_split_view_share <= 1,
-            "InitOptions.instance_split_view_share must be in [0, 1], found {}",
+            "GroundOptions.instance_split_view_share must be in [0, 1], found {}",
             instance_split_view_share);
   U4D_CHECK(occupancy_fill_fraction >= 0 && occupancy_fill_fraction < 1,
-            "InitOptions.occupancy_fill_fraction must be in [0, 1), found {}",
+            "GroundOptions.occupancy_fill_fraction must be in [0, 1), found {}",
             occupancy_fill_fraction);
-  U4D_CHECK(grabcut_max_side >= 16, "InitOptions.grabcut_max_side must be >= 16, found {}",
-            grabcut_max_side);
+}
+
+void InitOptions::Check() const {
+  foreground.Check();
+  cross_view.Check();
+  people.Check();
+  still.Check();
+  ground.Check();
 }
 
 std::vector<cv::Mat> UnsupervisedInstanceMasks(const std::vector<Camera>& cameras,
@@ -165,21 +189,21 @@ std::vector<cv::Mat> UnsupervisedInstanceMasks(const std::vector<Camera>& camera
   tbb::parallel_for(0, nv, [&](int v) {
     fg[v] = keyed(v) ? CleanMask(ChromaKeyMask(images_t[v], keys[v]), options)
                      : ForegroundMask(images_t[v], backgrounds[v], options);
-    if (options.use_hog) {
+    if (options.people.use_hog) {
       boxes[v] = DetectPeople(images_t[v], options);
       fg[v] = AddDetectedPeople(images_t[v], fg[v], boxes[v], options);
     }
-    if (options.remove_ghosts && !keyed(v))
+    if (options.still.remove_ghosts && !keyed(v))
       fg[v] = RemoveGhosts(images_t[v], fg[v], backgrounds[v], options);
-    if (options.still_grabcut_iterations > 0)
+    if (options.still.still_grabcut_iterations > 0)
       filled[v] = keyed(v) ? fg[v] : FillStillSubjects(images_t[v], fg[v], backgrounds[v], options);
   });
-  if (options.still_grabcut_iterations > 0) {
-    if (options.cross_view && cameras.size() >= 2 && options.carve_still_fill) {
+  if (options.still.still_grabcut_iterations > 0) {
+    if (options.cross_view.enabled && cameras.size() >= 2 && options.still.carve_still_fill) {
       // Components are kept or dropped as a whole (step 3); of the pixels
       // step 5 added, only those the other views confirm stay.
       InitOptions carve = options;
-      carve.carve_pixels = true;
+      carve.cross_view.carve_pixels = true;
       const std::vector<cv::Mat> kept = CrossViewConsistentMasks(cameras, filled, options);
       const std::vector<cv::Mat> confirmed = CrossViewConsistentMasks(cameras, filled, carve);
       for (int v = 0; v < nv; ++v) fg[v] = kept[v] & (fg[v] | confirmed[v]);
@@ -187,7 +211,7 @@ std::vector<cv::Mat> UnsupervisedInstanceMasks(const std::vector<Camera>& camera
     }
     fg = filled;
   }
-  if (options.cross_view && cameras.size() >= 2)
+  if (options.cross_view.enabled && cameras.size() >= 2)
     fg = CrossViewConsistentMasks(cameras, fg, options);
   return Instances(cameras, images_t, fg, boxes, options);
 }

@@ -155,8 +155,8 @@ BackgroundModel BackgroundFromPlate(const std::vector<cv::Mat>& plate, int num_f
                                     const std::function<cv::Mat(int)>& read_frame,
                                     const BackgroundOptions& options = {});
 
-struct InitOptions {
-  // Foreground (step 2).
+// Foreground (step 2, ForegroundMask; also cleans the masks of steps 4a and 5).
+struct ForegroundOptions {
   double threshold_sigmas = 4.0;      // foreground: distance > this * noise level
   double min_noise_sigma = 2.0;       // floor of the noise level (Lab units)
   bool suppress_shadows = true;       // classify darker, same-chroma pixels as background
@@ -165,8 +165,13 @@ struct InitOptions {
   double shadow_chroma_sigmas = 3.0;  // shadow: chroma change <= this * noise level
   int morph_radius_px = 0;            // opening/closing radius; 0 = 1 px per 360 px of height
   double min_blob_fraction = 2e-4;    // components (and holes) smaller than this * area go
-  // Cross-view consistency (step 3).
-  bool cross_view = true;                // run it when >= 2 calibrated views are given
+
+  void Check() const;  // throws u4d::Error naming the offending field
+};
+
+// Cross-view consistency (step 3, CrossViewConsistentMasks).
+struct CrossViewOptions {
+  bool enabled = true;                   // run it when >= 2 calibrated views are given
   int consistency_max_side = 160;        // longest image side at which rays are tested (px)
   double step_px = 0.8;                  // ray march step: projected motion in other views (px)
   double min_depth_m = 0.3;              // nearest depth tested (m)
@@ -177,7 +182,12 @@ struct InitOptions {
   int consistency_dilation_px = 1;       // dilation of the other views' masks (reduced px)
   double min_consistent_fraction = 0.3;  // a component is kept above this consistent share
   bool carve_pixels = false;             // also drop inconsistent pixels in kept components
-  // People instances (step 4).
+
+  void Check() const;  // throws u4d::Error naming the offending field
+};
+
+// People instances (step 4: DetectPeople, AddDetectedPeople, the per-view split).
+struct PeopleOptions {
   bool use_hog = true;             // split/confirm components with HOG people boxes
   double hog_threshold = 0.0;      // HOG SVM hit threshold (higher: fewer boxes)
   int min_person_height_px = 96;   // upscale so that people this tall fit 128 px windows
@@ -194,7 +204,12 @@ struct InitOptions {
   double min_instance_fraction = 5e-4;      // instances smaller than this * area are dropped
   int grabcut_iterations = 0;               // cv::grabCut iterations per instance; 0 = off
   int grabcut_max_side = 200;               // instance box is downscaled to this side for GrabCut
-  // Still subjects (step 5, FillStillSubjects; needs BackgroundModel::envelope).
+
+  void Check() const;  // throws u4d::Error naming the offending field
+};
+
+// Still subjects (step 5: RemoveGhosts, FillStillSubjects; needs BackgroundModel::envelope).
+struct StillOptions {
   int still_grabcut_iterations = 3;  // GrabCut iterations in the envelope's hull; 0 = off
   double envelope_dilation = 0.02;   // envelope dilation before its hull (x image height)
   double envelope_ring = 0.04;       // probable-background ring around the hull (x height)
@@ -204,9 +219,14 @@ struct InitOptions {
   bool remove_ghosts = true;         // drop ghost components (RemoveGhosts) before step 5
   double ghost_edge_ratio = 0.5;     // ghost: outline gradient in the image < this x in
                                      // the model (0.5: the model's edge is clearly stronger)
-  // People on the ground plane (step 6, SeparatePeopleOnGround); replaces
-  // step 4's per-view split when at least occupancy_min_views cameras are given.
-  bool ground_occupancy = true;            // run step 6 (else step 4 splits each view)
+
+  void Check() const;  // throws u4d::Error naming the offending field
+};
+
+// People on the ground plane (step 6, SeparatePeopleOnGround); replaces
+// step 4's per-view split when at least occupancy_min_views cameras are given.
+struct GroundOptions {
+  bool enabled = true;                     // run step 6 (else step 4 splits each view)
   int occupancy_min_views = 3;             // cameras needed; also views that must see a voxel
   int occupancy_max_side = 320;            // longest image side at which voxels are tested (px)
   int occupancy_cells = 128;               // cells per side of the cubic grid
@@ -231,6 +251,17 @@ struct InitOptions {
   void Check() const;  // throws u4d::Error naming the offending field
 };
 
+// The options of the unsupervised chain, one struct per step.
+struct InitOptions {
+  ForegroundOptions foreground;
+  CrossViewOptions cross_view;
+  PeopleOptions people;
+  StillOptions still;
+  GroundOptions ground;
+
+  void Check() const;  // each step's Check()
+};
+
 // Step 2: CV_8UC1 mask (255 = foreground) of a BGR image against its view's
 // background. Throws on an empty image, a non-BGR image or a size mismatch.
 cv::Mat ForegroundMask(const cv::Mat& image_bgr, const BackgroundModel& background,
@@ -253,7 +284,7 @@ struct PersonBox {
 std::vector<PersonBox> DetectPeople(const cv::Mat& image_bgr, const InitOptions& options = {});
 
 // Box fill names: "never", "empty-views", "always" (throws on another).
-InitOptions::BoxFill BoxFillFromString(const std::string& name);
+PeopleOptions::BoxFill BoxFillFromString(const std::string& name);
 
 // Step 4a: the foreground plus, in every HOG box whose foreground covers
 // less than box_min_coverage of it (a person standing still is part of the

@@ -11,7 +11,7 @@ void DeclareOptions(OptionRegistry& r, BackgroundOptions* o) {
         "envelope: pixels foreground in at least this many sampled frames (>= 1; 1 = the union)");
 }
 
-void DeclareOptions(OptionRegistry& r, InitOptions* o) {
+void DeclareOptions(OptionRegistry& r, ForegroundOptions* o) {
   r.Add("threshold_sigmas", &o->threshold_sigmas, "foreground: distance > this * noise level");
   r.Add("min_noise_sigma", &o->min_noise_sigma, "floor of the noise level (Lab units)");
   r.Add("suppress_shadows", &o->suppress_shadows,
@@ -24,7 +24,10 @@ void DeclareOptions(OptionRegistry& r, InitOptions* o) {
         "opening/closing radius; 0 = 1 px per 360 px of height");
   r.Add("min_blob_fraction", &o->min_blob_fraction,
         "components (and holes) smaller than this * area go");
-  r.Add("cross_view", &o->cross_view,
+}
+
+void DeclareOptions(OptionRegistry& r, CrossViewOptions* o) {
+  r.Add("enabled", &o->enabled,
         "cross-view consistency check (step 3) when >= 2 calibrated views are given");
   r.Add("consistency_max_side", &o->consistency_max_side,
         "longest image side at which rays are tested (px)");
@@ -40,6 +43,9 @@ void DeclareOptions(OptionRegistry& r, InitOptions* o) {
   r.Add("min_consistent_fraction", &o->min_consistent_fraction,
         "a component is kept above this consistent share");
   r.Add("carve_pixels", &o->carve_pixels, "also drop inconsistent pixels in kept components");
+}
+
+void DeclareOptions(OptionRegistry& r, PeopleOptions* o) {
   r.Add("use_hog", &o->use_hog, "split/confirm components with HOG people boxes");
   r.Add("hog_threshold", &o->hog_threshold, "HOG SVM hit threshold (higher: fewer boxes)");
   r.Add("min_person_height_px", &o->min_person_height_px,
@@ -50,7 +56,7 @@ void DeclareOptions(OptionRegistry& r, InitOptions* o) {
         "fragments closer than this are one instance; 0 = h/100");
   r.Add("box_min_coverage", &o->box_min_coverage,
         "HOG boxes with less foreground than this share get GrabCut");
-  using BoxFill = InitOptions::BoxFill;
+  using BoxFill = PeopleOptions::BoxFill;
   r.AddEnum("box_fill", &o->box_fill,
             {{"never", BoxFill::kNever},
              {"empty-views", BoxFill::kEmptyViews},
@@ -69,6 +75,9 @@ void DeclareOptions(OptionRegistry& r, InitOptions* o) {
         "cv::grabCut iterations per instance; 0 = off");
   r.Add("grabcut_max_side", &o->grabcut_max_side,
         "instance box is downscaled to this side for GrabCut");
+}
+
+void DeclareOptions(OptionRegistry& r, StillOptions* o) {
   r.Add("still_grabcut_iterations", &o->still_grabcut_iterations,
         "GrabCut iterations in the envelope's hull; 0 = off");
   r.Add("envelope_dilation", &o->envelope_dilation,
@@ -84,7 +93,10 @@ void DeclareOptions(OptionRegistry& r, InitOptions* o) {
   r.Add("ghost_edge_ratio", &o->ghost_edge_ratio,
         "ghost: outline gradient in the image < this x in the model (0.5: the model's edge is "
         "clearly stronger)");
-  r.Add("ground_occupancy", &o->ground_occupancy, "run step 6 (else step 4 splits each view)");
+}
+
+void DeclareOptions(OptionRegistry& r, GroundOptions* o) {
+  r.Add("enabled", &o->enabled, "run step 6 (else step 4 splits each view)");
   r.Add("occupancy_min_views", &o->occupancy_min_views,
         "cameras needed; also views that must see a voxel");
   r.Add("occupancy_max_side", &o->occupancy_max_side,
@@ -113,6 +125,14 @@ void DeclareOptions(OptionRegistry& r, InitOptions* o) {
         "it is k touching people; 0 = off");
   r.Add("occupancy_fill_fraction", &o->occupancy_fill_fraction,
         "pixels missing an id take the nearest within this x image height, else are dropped");
+}
+
+void DeclareOptions(OptionRegistry& r, InitOptions* o) {
+  r.Nested("foreground", &o->foreground);
+  r.Nested("cross_view", &o->cross_view);
+  r.Nested("people", &o->people);
+  r.Nested("still", &o->still);
+  r.Nested("ground", &o->ground);
 }
 
 void DeclareOptions(OptionRegistry& r, ChromaKeyOptions* o) {

@@ -10,6 +10,11 @@
 namespace u4d {
 
 void DeclareOptions(OptionRegistry& r, BackgroundOptions* o);
+void DeclareOptions(OptionRegistry& r, ForegroundOptions* o);
+void DeclareOptions(OptionRegistry& r, CrossViewOptions* o);
+void DeclareOptions(OptionRegistry& r, PeopleOptions* o);
+void DeclareOptions(OptionRegistry& r, StillOptions* o);
+void DeclareOptions(OptionRegistry& r, GroundOptions* o);
 void DeclareOptions(OptionRegistry& r, InitOptions* o);
 void DeclareOptions(OptionRegistry& r, ChromaKeyOptions* o);
 

@@ -125,9 +125,9 @@ TEST(InitTest, ForegroundIoUAgainstGroundTruth) {
   }
   double inter = 0, uni = 0, inter_raw = 0, uni_raw = 0, inter_box = 0, uni_box = 0;
   InitOptions raw;
-  raw.cross_view = false;
+  raw.cross_view.enabled = false;
   InitOptions box;  // with GrabCut in weakly covered HOG boxes (off by default)
-  box.box_fill = InitOptions::BoxFill::kAlways;
+  box.people.box_fill = PeopleOptions::BoxFill::kAlways;
   for (int t = 0; t < f.capture.num_frames; t += 5) {
     std::vector<cv::Mat> images(nv);
     for (int v = 0; v < nv; ++v) images[v] = f.images[v][t];
@@ -171,7 +171,7 @@ std::vector<double> ForegroundIoUs(const SynthFixture& f,
   const int nv = f.capture.NumViews();
   const int m = static_cast<int>(options.size()) + 1;
   InitOptions raw;
-  raw.cross_view = false;
+  raw.cross_view.enabled = false;
   std::vector<double> i(m, 0.0), u(m, 0.0);
   for (int t = 0; t < f.capture.num_frames; t += 5) {
     std::vector<cv::Mat> images(nv);
@@ -209,16 +209,16 @@ TEST(InitTest, StillSubjectsWithBackgroundFromTheCaptureAlone) {
   // beyond noise: not more than 0.005 lower (measured: 0.964 both).
   const SynthFixture& f = Fixture();
   InitOptions before;  // the chain without step 5
-  before.remove_ghosts = false;
-  before.still_grabcut_iterations = 0;
+  before.still.remove_ghosts = false;
+  before.still.still_grabcut_iterations = 0;
   std::vector<InitOptions> variants = {before, InitOptions()};
   std::vector<std::string> names = {"chain without step 5", "default"};
   if (std::getenv("U4D_INIT_ABLATION")) {  // the other variants of docs/init.md (slow)
     InitOptions ghosts_only = before, fill_only = before, no_carve, no_model;
-    ghosts_only.remove_ghosts = true;
-    fill_only.still_grabcut_iterations = InitOptions().still_grabcut_iterations;
-    no_carve.carve_still_fill = false;
-    no_model.still_require_model = false;
+    ghosts_only.still.remove_ghosts = true;
+    fill_only.still.still_grabcut_iterations = InitOptions().still.still_grabcut_iterations;
+    no_carve.still.carve_still_fill = false;
+    no_model.still.still_require_model = false;
     variants.insert(variants.end(), {ghosts_only, fill_only, no_carve, no_model});
     names.insert(names.end(),
                  {"ghosts only", "fill only", "fill not carved", "model not required"});
@@ -279,7 +279,7 @@ TEST(InitTest, StillPeopleWithoutAPlateFoundInHogBoxes) {
   o.seed = 7;
   static const SynthFixture* still = MakeFixture("init_still_test", o);
   InitOptions never;
-  never.box_fill = InitOptions::BoxFill::kNever;
+  never.people.box_fill = PeopleOptions::BoxFill::kNever;
   const std::vector<double> iou = ForegroundIoUs(*still, still->self_backgrounds, {never, {}});
   std::printf(
       "still people, background from the capture alone: IoU without box fill %.3f, "
@@ -400,7 +400,7 @@ TEST(InitTest, DetectorBoxesSplitTouchingPeople) {
         continue;
       ++tested;
       InitOptions options;
-      options.min_instance_fraction = 0;
+      options.people.min_instance_fraction = 0;
       const cv::Mat split = SplitInstances(f.images[v][t], gt > 0, boxes, options);
       ASSERT_EQ(CountIds(split), 2) << "view " << v << " frame " << t;
       for (const int id : ids) {
@@ -676,7 +676,7 @@ TEST(InitTest, GroundOccupancyNamesPeopleAlikeInAllViews) {
     };
   };
   InitOptions per_view;
-  per_view.ground_occupancy = false;
+  per_view.ground.enabled = false;
   const InstanceScores a = ScoreInstances(f, chain(per_view));
   const InstanceScores b = ScoreInstances(f, chain(InitOptions()));
   for (const auto& [name, sc] :
@@ -720,7 +720,7 @@ TEST(InitTest, FailsClearlyOnBadInput) {
   EXPECT_THROW(SeparatePeopleOnGround(f.cameras, none), Error);
   EXPECT_THROW(RigUpDirection({}), Error);
   InitOptions bad;
-  bad.min_view_fraction = 1.5;
+  bad.cross_view.min_view_fraction = 1.5;
   EXPECT_THROW(bad.Check(), Error);
   try {
     bad.Check();
@@ -739,7 +739,7 @@ TEST(InitTest, FailsClearlyOnBadInput) {
   EXPECT_THROW(ToInstanceMask(cv::Mat(4, 4, CV_8UC1)), Error);
   // Step 5: bad options name their field, sizes must match.
   InitOptions bad_still;
-  bad_still.still_max_side = 8;
+  bad_still.still.still_max_side = 8;
   try {
     bad_still.Check();
     ADD_FAILURE() << "still_max_side = 8 accepted";

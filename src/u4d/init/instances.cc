@@ -41,7 +41,7 @@ void SplitByProfile(const cv::Mat& part, const InitOptions& options, int depth,
     right_max[x] = std::max(sm[x], x + 1 < bb.width ? right_max[x + 1] : 0.0);
   const double total = cum[bb.width];
   int best = -1;
-  double best_ratio = options.profile_valley_ratio;
+  double best_ratio = options.people.profile_valley_ratio;
   for (int x = 1; x + 1 < bb.width; ++x) {
     const double peak = std::min(left_max[x - 1], right_max[x + 1]);
     if (peak <= 0) continue;
@@ -80,8 +80,8 @@ void RefineWithGrabCut(const cv::Mat& image, cv::Mat& ids, int id, const InitOpt
   const int pad = std::max(4, static_cast<int>(0.15 * std::max(bb.width, bb.height)));
   bb = cv::Rect(bb.x - pad, bb.y - pad, bb.width + 2 * pad, bb.height + 2 * pad) &
        cv::Rect(0, 0, image.cols, image.rows);
-  const double s =
-      std::min(1.0, static_cast<double>(options.grabcut_max_side) / std::max(bb.width, bb.height));
+  const double s = std::min(
+      1.0, static_cast<double>(options.people.grabcut_max_side) / std::max(bb.width, bb.height));
   const cv::Size sz(std::max(1, static_cast<int>(std::lround(bb.width * s))),
                     std::max(1, static_cast<int>(std::lround(bb.height * s))));
   cv::Mat img, m, others;
@@ -112,7 +112,8 @@ void RefineWithGrabCut(const cv::Mat& image, cv::Mat& ids, int id, const InitOpt
   gc.setTo(cv::GC_BGD, others);
   if (cv::countNonZero(gc == cv::GC_BGD) == 0 || cv::countNonZero(eroded) == 0) return;
   cv::Mat bgd, fgd;
-  cv::grabCut(img, gc, cv::Rect(), bgd, fgd, options.grabcut_iterations, cv::GC_INIT_WITH_MASK);
+  cv::grabCut(img, gc, cv::Rect(), bgd, fgd, options.people.grabcut_iterations,
+              cv::GC_INIT_WITH_MASK);
   cv::Mat fg = (gc == cv::GC_FGD) | (gc == cv::GC_PR_FGD), up;
   cv::resize(fg, up, bb.size(), 0, 0, cv::INTER_NEAREST);
   cv::Mat roi = ids(bb);
@@ -132,9 +133,9 @@ std::vector<PersonBox> DetectPeople(const cv::Mat& image_bgr, const InitOptions&
   options.Check();
   U4D_CHECK(!image_bgr.empty() && image_bgr.type() == CV_8UC3,
             "DetectPeople: expected a non-empty BGR image (CV_8UC3)");
-  const double s =
-      std::min(128.0 / options.min_person_height_px, static_cast<double>(options.hog_max_side) /
-                                                         std::max(image_bgr.cols, image_bgr.rows));
+  const double s = std::min(
+      128.0 / options.people.min_person_height_px,
+      static_cast<double>(options.people.hog_max_side) / std::max(image_bgr.cols, image_bgr.rows));
   cv::Mat img;
   cv::resize(image_bgr, img, cv::Size(), s, s, s < 1 ? cv::INTER_AREA : cv::INTER_LINEAR);
   if (img.cols < 64 || img.rows < 128) return {};
@@ -142,8 +143,8 @@ std::vector<PersonBox> DetectPeople(const cv::Mat& image_bgr, const InitOptions&
   hog.setSVMDetector(cv::HOGDescriptor::getDefaultPeopleDetector());
   std::vector<cv::Rect> found;
   std::vector<double> weights;
-  hog.detectMultiScale(img, found, weights, options.hog_threshold, cv::Size(8, 8), cv::Size(16, 16),
-                       1.05, 2.0);
+  hog.detectMultiScale(img, found, weights, options.people.hog_threshold, cv::Size(8, 8),
+                       cv::Size(16, 16), 1.05, 2.0);
   std::vector<PersonBox> out;
   for (size_t i = 0; i < found.size(); ++i) {
     const cv::Rect& r = found[i];
@@ -159,11 +160,11 @@ std::vector<PersonBox> DetectPeople(const cv::Mat& image_bgr, const InitOptions&
   return out;
 }
 
-InitOptions::BoxFill BoxFillFromString(const std::string& name) {
-  if (name == "never") return InitOptions::BoxFill::kNever;
-  if (name == "empty-views") return InitOptions::BoxFill::kEmptyViews;
+PeopleOptions::BoxFill BoxFillFromString(const std::string& name) {
+  if (name == "never") return PeopleOptions::BoxFill::kNever;
+  if (name == "empty-views") return PeopleOptions::BoxFill::kEmptyViews;
   U4D_CHECK(name == "always", "unknown box fill '{}' (known: never, empty-views, always)", name);
-  return InitOptions::BoxFill::kAlways;
+  return PeopleOptions::BoxFill::kAlways;
 }
 
 cv::Mat AddDetectedPeople(const cv::Mat& image_bgr, const cv::Mat& foreground,
@@ -171,22 +172,23 @@ cv::Mat AddDetectedPeople(const cv::Mat& image_bgr, const cv::Mat& foreground,
   options.Check();
   CheckImageAndForeground("AddDetectedPeople", image_bgr, foreground);
   cv::Mat out = foreground.clone();
-  using BoxFill = InitOptions::BoxFill;
-  if (options.box_fill == BoxFill::kNever) return out;
-  const double least_instance = options.min_instance_fraction * foreground.total();
-  if (options.box_fill == BoxFill::kEmptyViews && cv::countNonZero(foreground) >= least_instance)
+  using BoxFill = PeopleOptions::BoxFill;
+  if (options.people.box_fill == BoxFill::kNever) return out;
+  const double least_instance = options.people.min_instance_fraction * foreground.total();
+  if (options.people.box_fill == BoxFill::kEmptyViews &&
+      cv::countNonZero(foreground) >= least_instance)
     return out;
   const cv::Rect image_rect(0, 0, image_bgr.cols, image_bgr.rows);
   for (const PersonBox& b : boxes) {
     const double coverage = static_cast<double>(cv::countNonZero(foreground(b.box))) / b.box.area();
-    if (coverage >= options.box_min_coverage) continue;
+    if (coverage >= options.people.box_min_coverage) continue;
     // GrabCut in the box (plus a margin of background), at most grabcut_max_side.
     const int pad = std::max(4, b.box.width / 4);
     const cv::Rect roi =
         cv::Rect(b.box.x - pad, b.box.y - pad / 2, b.box.width + 2 * pad, b.box.height + pad) &
         image_rect;
-    const double s = std::min(
-        1.0, static_cast<double>(options.grabcut_max_side) / std::max(roi.width, roi.height));
+    const double s = std::min(1.0, static_cast<double>(options.people.grabcut_max_side) /
+                                       std::max(roi.width, roi.height));
     const cv::Size sz(std::max(1, static_cast<int>(std::lround(roi.width * s))),
                       std::max(1, static_cast<int>(std::lround(roi.height * s))));
     cv::Mat img, fg;
@@ -205,7 +207,7 @@ cv::Mat AddDetectedPeople(const cv::Mat& image_bgr, const cv::Mat& foreground,
     gc(centre & cv::Rect(0, 0, sz.width, sz.height)).setTo(cv::GC_PR_FGD);
     gc.setTo(cv::GC_PR_FGD, fg);
     cv::Mat bgd, fgd;
-    cv::grabCut(img, gc, cv::Rect(), bgd, fgd, options.grabcut_box_iterations,
+    cv::grabCut(img, gc, cv::Rect(), bgd, fgd, options.people.grabcut_box_iterations,
                 cv::GC_INIT_WITH_MASK);
     cv::Mat res = (gc == cv::GC_FGD) | (gc == cv::GC_PR_FGD), up;
     cv::resize(res, up, roi.size(), 0, 0, cv::INTER_NEAREST);
@@ -229,8 +231,8 @@ cv::Mat SplitInstances(const cv::Mat& image_bgr, const cv::Mat& foreground,
   cv::Mat labels;
   int n = 0;
   {
-    const int r =
-        options.group_radius_px > 0 ? options.group_radius_px : std::max(1, foreground.rows / 100);
+    const int r = options.people.group_radius_px > 0 ? options.people.group_radius_px
+                                                     : std::max(1, foreground.rows / 100);
     cv::Mat grown;
     cv::dilate(foreground, grown,
                cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)));
@@ -242,7 +244,7 @@ cv::Mat SplitInstances(const cv::Mat& image_bgr, const cv::Mat& foreground,
     const int* l = labels.ptr<int>(y);
     for (int x = 0; x < labels.cols; ++x) ++area[l[x]];
   }
-  const double min_area = options.min_instance_fraction * foreground.total();
+  const double min_area = options.people.min_instance_fraction * foreground.total();
 
   // Boxes per component: a box belongs to the component with most pixels in
   // it, when those cover at least 15% of the box.
@@ -263,7 +265,7 @@ cv::Mat SplitInstances(const cv::Mat& image_bgr, const cv::Mat& foreground,
   for (int c = 1; c < n; ++c) {
     if (area[c] < min_area) continue;
     std::vector<PersonBox>& cb = comp_boxes[c];
-    if (options.require_detection && cb.empty()) continue;
+    if (options.people.require_detection && cb.empty()) continue;
     const cv::Mat comp = labels == c;
     // Non-maximum suppression along x: boxes whose centres are closer than
     // half a box width are one person.
@@ -300,7 +302,7 @@ cv::Mat SplitInstances(const cv::Mat& image_bgr, const cv::Mat& foreground,
       }
       for (auto& m : split)
         if (cv::countNonZero(m) >= min_area) parts.push_back(m);
-    } else if (options.split_by_profile) {
+    } else if (options.people.split_by_profile) {
       SplitByProfile(comp, options, 3, parts);
     } else {
       parts.push_back(comp);
@@ -317,7 +319,7 @@ cv::Mat SplitInstances(const cv::Mat& image_bgr, const cv::Mat& foreground,
   cv::Mat ids = cv::Mat::zeros(foreground.size(), CV_16UC1);
   for (size_t k = 0; k < order.size(); ++k)
     ids.setTo(static_cast<int>(k + 1), parts[order[k].second]);
-  if (options.grabcut_iterations > 0) {
+  if (options.people.grabcut_iterations > 0) {
     for (size_t k = 0; k < order.size(); ++k)
       RefineWithGrabCut(image_bgr, ids, static_cast<int>(k + 1), options);
   }

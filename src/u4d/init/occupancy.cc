@@ -76,11 +76,11 @@ OccupancyMap MakeGrid(const std::vector<Camera>& cameras, const InitOptions& opt
   std::vector<double> distances;
   for (const Camera& c : cameras) distances.push_back((c.Center() - centre).norm());
   std::nth_element(distances.begin(), distances.begin() + nv / 2, distances.end());
-  const double half = options.occupancy_extent * distances[nv / 2];
+  const double half = options.ground.occupancy_extent * distances[nv / 2];
   U4D_CHECK(half > 0, "SeparatePeopleOnGround: all cameras sit at the rig centre");
   m.axis_a = m.up.unitOrthogonal();
   m.axis_b = m.up.cross(m.axis_a);
-  m.cells = options.occupancy_cells;
+  m.cells = options.ground.occupancy_cells;
   m.cell_m = 2 * half / m.cells;
   m.origin = centre - half * (m.axis_a + m.axis_b + m.up);
   return m;
@@ -94,7 +94,7 @@ std::vector<uint8_t> OccupiedVoxels(const OccupancyMap& m, const ReducedMasks& r
   // views whose image they fall in, seen by at least min(occupancy_min_views, nv).
   const int n = m.cells, nv = static_cast<int>(reduced.cameras.size());
   const std::vector<Camera>& small = reduced.cameras;
-  const int min_seeing = std::min(options.occupancy_min_views, nv);
+  const int min_seeing = std::min(options.ground.occupancy_min_views, nv);
   std::vector<uint8_t> occupied(static_cast<size_t>(n) * n * n, 0);
   const auto centre_of = [&](double i, double j, double k) -> Eigen::Vector3d {
     return m.origin + m.cell_m * (i * m.axis_a + j * m.axis_b + k * m.up);
@@ -111,12 +111,13 @@ std::vector<uint8_t> OccupiedVoxels(const OccupancyMap& m, const ReducedMasks& r
           if (reduced.target[v].at<uint8_t>(static_cast<int>(std::lround(p.y())),
                                             static_cast<int>(std::lround(p.x())))) {
             ++fg;
-          } else if (inside - fg > (1 - options.min_view_fraction) * nv + 1e-9) {
+          } else if (inside - fg > (1 - options.cross_view.min_view_fraction) * nv + 1e-9) {
             break;  // too many misses already: at most nv views can see it
           }
         }
         occupied[Voxel(n, i, j, k)] =
-            inside >= min_seeing && fg >= std::ceil(options.min_view_fraction * inside - 1e-9);
+            inside >= min_seeing &&
+            fg >= std::ceil(options.cross_view.min_view_fraction * inside - 1e-9);
       }
   });
   return occupied;
@@ -136,7 +137,7 @@ cv::Mat CandidatePeople(const std::vector<uint8_t>& occupied, const InitOptions&
       m->height.at<float>(j, i) = static_cast<float>(count * m->cell_m);
     }
   cv::Mat smooth;
-  const double sigma = std::max(0.5, options.person_smoothing_m / m->cell_m);
+  const double sigma = std::max(0.5, options.ground.person_smoothing_m / m->cell_m);
   cv::GaussianBlur(m->height, smooth, cv::Size(0, 0), sigma);
 
   // Regions: every column at least min_column_height_m high climbs the
@@ -147,7 +148,7 @@ cv::Mat CandidatePeople(const std::vector<uint8_t>& occupied, const InitOptions&
   std::vector<int> peak_cell;
   const auto candidate = [&](int i, int j) {
     return i >= 0 && j >= 0 && i < n && j < n &&
-           m->height.at<float>(j, i) >= options.min_column_height_m;
+           m->height.at<float>(j, i) >= options.ground.min_column_height_m;
   };
   const auto S = [&](int c) { return smooth.at<float>(c / n, c % n); };
   for (int j = 0; j < n; ++j)
@@ -196,7 +197,8 @@ cv::Mat CandidatePeople(const std::vector<uint8_t>& occupied, const InitOptions&
   for (int r = 0; r < nr; ++r) peak[r] = S(peak_cell[r]);
   for (const Saddle& s : saddles) {
     const int a = Find(parent, s.a), b = Find(parent, s.b);
-    if (a == b || s.height < options.person_saddle_ratio * std::min(peak[a], peak[b])) continue;
+    if (a == b || s.height < options.ground.person_saddle_ratio * std::min(peak[a], peak[b]))
+      continue;
     if (peak[a] < peak[b]) {
       parent[a] = b;
     } else {
@@ -223,7 +225,8 @@ cv::Mat CandidatePeople(const std::vector<uint8_t>& occupied, const InitOptions&
     const int a = Find(parent, s.a), b = Find(parent, s.b);
     if (a == b) continue;
     for (const auto& [low, tall] : {std::pair{a, b}, std::pair{b, a}})
-      if (top[low] < options.min_person_height_m && top[tall] >= options.min_person_height_m &&
+      if (top[low] < options.ground.min_person_height_m &&
+          top[tall] >= options.ground.min_person_height_m &&
           (join[low] < 0 || top[tall] > top[join[low]]))
         join[low] = tall;
   }
@@ -232,7 +235,7 @@ cv::Mat CandidatePeople(const std::vector<uint8_t>& occupied, const InitOptions&
   top = tops();
   std::vector<int> roots;
   for (int r = 0; r < nr; ++r)
-    if (Find(parent, r) == r && top[r] >= options.min_lone_height_m) roots.push_back(r);
+    if (Find(parent, r) == r && top[r] >= options.ground.min_lone_height_m) roots.push_back(r);
   std::sort(roots.begin(), roots.end(), [&](int x, int y) {
     return std::pair(peak_cell[x] % n, peak_cell[x] / n) <
            std::pair(peak_cell[y] % n, peak_cell[y] / n);
@@ -272,7 +275,7 @@ int CandidateNear(const cv::Mat& person, const Eigen::Vector2d& cell, int radius
 // not in time. Returns the new number of candidates.
 int SplitByPrevious(const std::vector<Eigen::Vector3d>& previous, const OccupancyMap& m,
                     const InitOptions& options, cv::Mat* person, int candidates) {
-  const int radius = static_cast<int>(std::ceil(options.previous_radius_m / m.cell_m));
+  const int radius = static_cast<int>(std::ceil(options.ground.previous_radius_m / m.cell_m));
   std::vector<std::vector<Eigen::Vector2d>> held(candidates + 1);
   for (const Eigen::Vector3d& p : previous) {
     const Eigen::Vector2d cell = GroundCell(m, p);
@@ -405,7 +408,7 @@ std::vector<uint16_t> RemovePhantoms(const std::vector<std::vector<Ray>>& rays,
       if (alive[id] && (worst == 0 || best[id] < best[worst])) worst = id;
     for (int id = 1; id <= candidates; ++id)
       if (alive[id]) m->exclusive_share[id] = best[id];
-    if (worst == 0 || best[worst] >= options.min_exclusive_share) break;
+    if (worst == 0 || best[worst] >= options.ground.min_exclusive_share) break;
     alive[worst] = 0;
   }
   // Ids of the people left, in the candidates' order.
@@ -467,7 +470,7 @@ std::vector<int> InstancesHolding(const cv::Mat& inst, const std::vector<Ray>& r
   size_t k = 0;
   for (const auto& [i, count] : first) {
     const int c = own[k++];
-    if (c && count[c] >= options.min_split_share * most[c]) ++held[c];
+    if (c && count[c] >= options.ground.min_split_share * most[c]) ++held[c];
   }
   return held;
 }
@@ -535,7 +538,7 @@ bool SplitByInstances(const std::vector<cv::Mat>& instances,
                       const std::vector<std::vector<Ray>>& rays, const ReducedMasks& reduced,
                       const std::vector<uint16_t>& final_id, const InitOptions& options,
                       const OccupancyMap& m, cv::Mat* person, int* candidates) {
-  if (options.instance_split_view_share <= 0) return false;
+  if (options.ground.instance_split_view_share <= 0) return false;
   const int nc = static_cast<int>(final_id.size());
   std::vector<std::vector<int>> held_in_views(nc);  // candidate -> instances per view holding it
   for (size_t v = 0; v < instances.size(); ++v) {
@@ -548,7 +551,8 @@ bool SplitByInstances(const std::vector<cv::Mat>& instances,
   for (int c = 1; c < nc; ++c) {
     std::vector<int>& held = held_in_views[c];
     const int min_views = std::max(
-        2, static_cast<int>(std::ceil(options.instance_split_view_share * held.size() - 1e-9)));
+        2,
+        static_cast<int>(std::ceil(options.ground.instance_split_view_share * held.size() - 1e-9)));
     if (static_cast<int>(held.size()) < min_views) continue;
     // The largest k that at least min_views views hold.
     std::sort(held.rbegin(), held.rend());
@@ -613,7 +617,7 @@ cv::Mat NameInstances(const cv::Mat& inst, const std::vector<Ray>& rays, cv::Siz
       for (int k = 1; k < np; ++k)
         split[i][k] =
             k == person_of[i] ||
-            (!paired[k] && first[i][k] >= options.min_split_share * first[i][person_of[i]]);
+            (!paired[k] && first[i][k] >= options.ground.min_split_share * first[i][person_of[i]]);
       for (int k = 1; k < np; ++k)
         if (k != person_of[i] && split[i][k]) paired[k] = 2;  // paired by the split
     } else {
@@ -626,7 +630,8 @@ cv::Mat NameInstances(const cv::Mat& inst, const std::vector<Ray>& rays, cv::Siz
   cv::Mat up;
   cv::resize(nearest, up, inst.size(), 0, 0, cv::INTER_NEAREST);
   const cv::Mat fg = inst > 0;
-  const cv::Mat near_full = FillFromNearestId(up, fg, options.occupancy_fill_fraction * inst.rows);
+  const cv::Mat near_full =
+      FillFromNearestId(up, fg, options.ground.occupancy_fill_fraction * inst.rows);
   cv::Mat out = cv::Mat::zeros(inst.size(), CV_16UC1);
   for (int y = 0; y < inst.rows; ++y)
     for (int x = 0; x < inst.cols; ++x) {
@@ -689,8 +694,8 @@ std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
 
   OccupancyMap m = MakeGrid(cameras, options);
   // Reduced masks, as in the cross-view check.
-  const ReducedMasks reduced =
-      ReduceMasks(cameras, masks, options.occupancy_max_side, options.consistency_dilation_px);
+  const ReducedMasks reduced = ReduceMasks(cameras, masks, options.ground.occupancy_max_side,
+                                           options.cross_view.consistency_dilation_px);
   const std::vector<uint8_t> occupied = OccupiedVoxels(m, reduced, options);
   int candidates = 0;
   cv::Mat person = CandidatePeople(occupied, options, &m, &candidates);

@@ -60,7 +60,7 @@ cv::Mat RemoveGhosts(const cv::Mat& image_bgr, const cv::Mat& foreground,
     }
   }
   std::vector<uint8_t> ghost(n, 0);
-  for (int i = 1; i < n; ++i) ghost[i] = sum_i[i] < options.ghost_edge_ratio * sum_b[i];
+  for (int i = 1; i < n; ++i) ghost[i] = sum_i[i] < options.still.ghost_edge_ratio * sum_b[i];
   cv::Mat out = foreground.clone();
   for (int y = 0; y < labels.rows; ++y) {
     const int* l = labels.ptr<int>(y);
@@ -78,7 +78,7 @@ cv::Mat FillStillSubjects(const cv::Mat& image_bgr, const cv::Mat& foreground,
                           const BackgroundModel& background, const InitOptions& options) {
   options.Check();
   CheckImageAndForeground("FillStillSubjects", image_bgr, foreground);
-  if (options.still_grabcut_iterations <= 0 || background.envelope.empty())
+  if (options.still.still_grabcut_iterations <= 0 || background.envelope.empty())
     return foreground.clone();
   U4D_CHECK(background.envelope.size() == image_bgr.size() && background.envelope.type() == CV_8UC1,
             "FillStillSubjects: the background's envelope is {}x{}, the image {}x{}",
@@ -88,8 +88,8 @@ cv::Mat FillStillSubjects(const cv::Mat& image_bgr, const cv::Mat& foreground,
 
   // Reduced resolution (GrabCut's cost grows with the pixels; thin limbs are
   // sure foreground at full resolution and are kept from `foreground`).
-  const double s = std::min(
-      1.0, static_cast<double>(options.still_max_side) / std::max(image_bgr.cols, image_bgr.rows));
+  const double s = std::min(1.0, static_cast<double>(options.still.still_max_side) /
+                                     std::max(image_bgr.cols, image_bgr.rows));
   const cv::Size sz(std::max(1, static_cast<int>(std::lround(image_bgr.cols * s))),
                     std::max(1, static_cast<int>(std::lround(image_bgr.rows * s))));
   cv::Mat img, fg, env;
@@ -100,7 +100,8 @@ cv::Mat FillStillSubjects(const cv::Mat& image_bgr, const cv::Mat& foreground,
   env = env > 0;
 
   // Hulls of the (dilated) envelope components that this frame's foreground touches.
-  const int rd = std::max(1, static_cast<int>(std::lround(options.envelope_dilation * sz.height)));
+  const int rd =
+      std::max(1, static_cast<int>(std::lround(options.still.envelope_dilation * sz.height)));
   cv::dilate(env, env, Disc(rd));
   cv::Mat labels;
   const int n = cv::connectedComponents(env, labels, 8, CV_32S);
@@ -126,7 +127,8 @@ cv::Mat FillStillSubjects(const cv::Mat& image_bgr, const cv::Mat& foreground,
 
   // Seeds: sure background beyond the ring, probable background in the ring,
   // probable foreground in the hulls, sure foreground where step 2 found it.
-  const int rr = std::max(2, static_cast<int>(std::lround(options.envelope_ring * sz.height)));
+  const int rr =
+      std::max(2, static_cast<int>(std::lround(options.still.envelope_ring * sz.height)));
   cv::Mat near;
   cv::dilate(hull, near, Disc(rr));
   cv::Mat gc(sz, CV_8UC1, cv::Scalar(cv::GC_BGD));
@@ -172,11 +174,11 @@ cv::Mat FillStillSubjects(const cv::Mat& image_bgr, const cv::Mat& foreground,
   // One graph cut with these models, then GrabCut's alternation (models
   // re-learnt from the labels) for the remaining iterations.
   cv::grabCut(image_roi, g, cv::Rect(), bgd_model, fgd_model, 1, cv::GC_EVAL_FREEZE_MODEL);
-  if (options.still_grabcut_iterations > 1)
+  if (options.still.still_grabcut_iterations > 1)
     cv::grabCut(image_roi, g, cv::Rect(), bgd_model, fgd_model,
-                options.still_grabcut_iterations - 1, cv::GC_EVAL);
+                options.still.still_grabcut_iterations - 1, cv::GC_EVAL);
   cv::Mat in_model;
-  if (options.still_require_model) {
+  if (options.still.still_require_model) {
     // The same cut on the background model, with the final colour models:
     // a subject can only be missing from step 2's foreground where the model
     // itself shows the subject. Where it shows the empty scene (a good

@@ -368,9 +368,9 @@ TEST(PipelineTest, CorruptFrameAndMismatchedOptionsFailClearly) {
   other.joint.terms = AblationTerms("P_M");
   EXPECT_THROW(RunPipeline(capture, scene, other), Error);
   RunOptions other_init = FastOptions();
-  other_init.init.threshold_sigmas = 5;
+  other_init.init.foreground.threshold_sigmas = 5;
   test_util::ExpectErrorMentions([&] { RunPipeline(capture, scene, other_init); },
-                                 {"other options", "/init/threshold_sigmas"});
+                                 {"other options", "/init/foreground/threshold_sigmas"});
   RunOptions other_threads = FastOptions();
   other_threads.threads = 2;
   test_util::ExpectErrorMentions([&] { RunPipeline(capture, scene, other_threads); },

@@ -55,7 +55,7 @@ const std::vector<OptionFlag>& RunOptionFlags() {
       {"--picture-width", "picture_width", ""},
       {"--threads", "threads", ""},
       {"--pose-smoothing", "pose_smoothing.window_seconds", ""},
-      {"--box-fill", "init.box_fill", ""},
+      {"--box-fill", "init.people.box_fill", ""},
       {"--chroma-key", "chroma_key.mode", ""},
       {"--no-joint-tracks", "tracks.add_joint_tracks", "false"},
       {"--no-resume", "resume", "false"},

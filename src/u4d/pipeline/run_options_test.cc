@@ -42,8 +42,8 @@ void DifferingKeys(const nlohmann::json& a, const nlohmann::json& b, const std::
 
 TEST(RunOptions, ParamsHoldOptionsThatWereOnceLeftOut) {
   const nlohmann::json j = RunOptions().ToJson();
-  EXPECT_EQ(j.at("init").at("threshold_sigmas"), 4.0);
-  EXPECT_EQ(j.at("init").at("box_fill"), "empty-views");
+  EXPECT_EQ(j.at("init").at("foreground").at("threshold_sigmas"), 4.0);
+  EXPECT_EQ(j.at("init").at("people").at("box_fill"), "empty-views");
   EXPECT_EQ(j.at("background").at("max_frames"), 25);
   EXPECT_EQ(j.at("joint").at("labels").at("gmm_components"), 10);
   EXPECT_EQ(j.at("joint").at("motion_reg_boundary"), "ignore");
@@ -212,7 +212,7 @@ TEST(RunOptions, ResumeKeyLeavesOutRunControlOnly) {
   o.threads = 3;
   o.progress = false;
   EXPECT_EQ(RunOptions::ResumeKey(o.ToJson()), RunOptions::ResumeKey(RunOptions().ToJson()));
-  o.init.threshold_sigmas = 5;
+  o.init.foreground.threshold_sigmas = 5;
   EXPECT_NE(RunOptions::ResumeKey(o.ToJson()), RunOptions::ResumeKey(RunOptions().ToJson()));
 }
 
@@ -225,9 +225,10 @@ TEST(RunOptions, UpdateFromJsonNamesTheFileAndTheDottedKey) {
       {"c.json", "unknown option 'joint.weights.flwo'"});
   test_util::ExpectErrorMentions(
       [&] {
-        UpdateOptionsFromJson(OptionsOf(&o), {{"init", {{"box_fill", "some"}}}}, "c.json");
+        UpdateOptionsFromJson(OptionsOf(&o), {{"init", {{"people", {{"box_fill", "some"}}}}}},
+                              "c.json");
       },
-      {"c.json", "'init.box_fill'", "never, empty-views, always"});
+      {"c.json", "'init.people.box_fill'", "never, empty-views, always"});
 }
 
 // docs/options.md is generated (`u4d options --markdown > docs/options.md`);
