@@ -74,7 +74,6 @@ void RemoveSceneOutputs(const fs::path& scene_dir) {
   if (!fs::exists(scene_dir / layout::SceneParams()) &&
       !fs::exists(scene_dir / layout::SceneRunLog()))
     return;
-  // The first component of every path io/layout.h names in a scene.
   // The first component of every path io/layout.h names in a scene; the
   // files that mark a run go last, so that an interrupted removal leaves a
   // folder still recognised as a run's.
