@@ -650,21 +650,26 @@ RunResult RunPipeline(const fs::path& capture_dir, const fs::path& scene_dir,
   params["masks_used"] = ToString(c.masks);
   params["poses_used"] = ToString(c.poses);
   const InputFingerprint inputs = FingerprintCapture(cap);
-  if (options.resume) {
-    CheckResumable(scene_dir, params, inputs);
-    RemoveInterruptedWrites(scene_dir);
-  } else {
-    RemoveSceneOutputs(scene_dir);
+  bool resume = options.resume;
+  if (resume) {
+    const std::string change = ResumeChange(scene_dir, params, inputs);
+    if (!change.empty())
+      fmt::print("u4d run: {} holds a run of {}: recomputing the whole scene\n", scene_dir.string(),
+                 change);
+    resume = change.empty();
   }
+  if (resume)
+    RemoveInterruptedWrites(scene_dir);
+  else
+    RemoveSceneOutputs(scene_dir);
   fs::create_directories(scene_dir);
-  if (options.resume && fs::exists(scene_dir / layout::SceneRunLog()))
-    c.log = ReadRunLog(scene_dir);
+  if (resume && fs::exists(scene_dir / layout::SceneRunLog())) c.log = ReadRunLog(scene_dir);
   c.log.capture = params["capture"];
   c.log.masks = ToString(c.masks);
   c.log.poses = ToString(c.poses);
   c.log.stages.clear();
   c.log.segment_parts.clear();
-  if (!options.resume) c.log.stages_done.clear(), c.log.segments_done.clear();
+  if (!resume) c.log.stages_done.clear(), c.log.segments_done.clear();
   // inputs.json first: a scene with params.json always has it.
   WriteJsonFileAtomic(scene_dir / layout::SceneInputs(), FingerprintToJson(inputs));
   WriteJsonFileAtomic(scene_dir / layout::SceneParams(), params);

@@ -22,10 +22,12 @@
 // Resume: run.json (run_log.h) records the stages and segments finished; a
 // run into a scene directory written from the same options (params.json) and
 // the same inputs (inputs.json, the capture's fingerprint) skips them. A
-// scene written with other options, or from a capture whose calibration,
-// masks, poses or frames changed since, is refused (u4d::Error naming the
-// option or the files, scene_resume.h) unless RunOptions::resume is false,
-// when the earlier run's outputs are removed and everything is recomputed.
+// scene written with other options, or from the same capture whose
+// calibration, masks, poses or frames changed since, is recomputed: the run
+// prints what changed (the option or the files, scene_resume.h), removes the
+// earlier run's outputs and computes everything, as it does when
+// RunOptions::resume is false. A scene of another capture (another path) is
+// refused with u4d::Error unless RunOptions::resume is false.
 // A resumed run first removes the temporary files of the writes a killed run
 // left (each file is written to a temporary name and renamed into place).
 //

@@ -1,8 +1,9 @@
 // A scene resumes only from the inputs and options it was computed from
 // (pipeline.h "Resume", scene_resume.h): after a camera moved in
-// calibration.json, a mask changed or an option changed, the rerun is refused
-// naming what changed, and the rerun with resume off then leaves exactly the
-// files that a fresh run writes (no mix of the two runs).
+// calibration.json, a mask changed or an option changed, the rerun says what
+// changed and recomputes, and the scene then holds exactly the files that a
+// fresh run writes (no mix of the two runs); another capture's scene is left
+// alone.
 #include <map>
 
 #include <gtest/gtest.h>
@@ -54,27 +55,22 @@ void ExpectSameFiles(const fs::path& a, const fs::path& b) {
   for (const auto& [name, bytes] : fa) EXPECT_TRUE(bytes == fb.at(name)) << name << " differs";
 }
 
-// The rerun with `options` into `scene` is refused naming `mentions`; with
-// resume off it recomputes, and the scene then equals a fresh run's.
-void ExpectRefusedThenRecomputedAsFresh(const fs::path& capture, const fs::path& scene,
-                                        const RunOptions& options,
-                                        const std::vector<std::string>& mentions) {
-  test_util::ExpectErrorMentions([&] { RunPipeline(capture, scene, options); },
-                                 [&] {
-                                   std::vector<std::string> m = mentions;
-                                   m.push_back("--no-resume");
-                                   return m;
-                                 }());
-  RunOptions recompute = options;
-  recompute.resume = false;
-  const RunResult run = RunPipeline(capture, scene, recompute);
+// The rerun with `options` into `scene` says what changed (naming
+// `mentions`) and recomputes everything: the scene then equals a fresh run's.
+void ExpectRecomputedAsFresh(const fs::path& capture, const fs::path& scene,
+                             const RunOptions& options, const std::vector<std::string>& mentions) {
+  testing::internal::CaptureStdout();
+  const RunResult run = RunPipeline(capture, scene, options);
+  const std::string printed = testing::internal::GetCapturedStdout();
   EXPECT_EQ(run.segments_skipped, 0);
+  EXPECT_NE(printed.find("recomputing the whole scene"), std::string::npos) << printed;
+  for (const std::string& m : mentions) EXPECT_NE(printed.find(m), std::string::npos) << m;
   const fs::path fresh = scene.parent_path() / (scene.filename().string() + "_fresh");
-  RunPipeline(capture, fresh, recompute);
+  RunPipeline(capture, fresh, options);  // an empty directory: a fresh run
   ExpectSameFiles(scene, fresh);
 }
 
-TEST(PipelineResumeTest, AMovedCameraIsNotMixedWithTheOldScene) {
+TEST(PipelineResumeTest, AMovedCameraRecomputesTheScene) {
   const fs::path capture = TinyCapture("camera");
   const fs::path scene = test_util::FreshTestDir("pipeline_resume", "camera");
   RunPipeline(capture, scene, TinyOptions());
@@ -86,13 +82,12 @@ TEST(PipelineResumeTest, AMovedCameraIsNotMixedWithTheOldScene) {
   nlohmann::json calib = ReadJsonFile(capture / "calibration.json");
   calib["cameras"][1]["t"][0] = calib["cameras"][1]["t"][0].get<double>() + 0.2;
   WriteJsonFileAtomic(capture / "calibration.json", calib);
-  ExpectRefusedThenRecomputedAsFresh(capture, scene, TinyOptions(),
-                                     {"other inputs", "calibration.json"});
+  ExpectRecomputedAsFresh(capture, scene, TinyOptions(), {"other inputs", "calibration.json"});
   EXPECT_EQ(ReadJsonFile(scene / layout::SceneCalibration())["cameras"][1]["t"][0],
             calib["cameras"][1]["t"][0]);
 }
 
-TEST(PipelineResumeTest, AnEditedMaskIsNotMixedWithTheOldScene) {
+TEST(PipelineResumeTest, AnEditedMaskRecomputesTheScene) {
   const fs::path capture = TinyCapture("mask");
   const fs::path scene = test_util::FreshTestDir("pipeline_resume", "mask");
   RunPipeline(capture, scene, TinyOptions());
@@ -102,19 +97,29 @@ TEST(PipelineResumeTest, AnEditedMaskIsNotMixedWithTheOldScene) {
   WriteInstanceMask(capture / layout::Mask(cap.views[1].name, 1),
                     capture / layout::MaskInfo(cap.views[1].name, 1),
                     {cv::Mat::zeros(cam.height, cam.width, CV_16UC1), {}});
-  ExpectRefusedThenRecomputedAsFresh(
-      capture, scene, TinyOptions(),
-      {"other inputs", layout::Mask(cap.views[1].name, 1).generic_string()});
+  ExpectRecomputedAsFresh(capture, scene, TinyOptions(),
+                          {"other inputs", layout::Mask(cap.views[1].name, 1).generic_string()});
 }
 
-TEST(PipelineResumeTest, AnotherOptionIsNotMixedWithTheOldScene) {
+TEST(PipelineResumeTest, AnotherOptionRecomputesTheScene) {
   const fs::path capture = TinyCapture("option");
   const fs::path scene = test_util::FreshTestDir("pipeline_resume", "option");
   RunPipeline(capture, scene, TinyOptions());
   RunOptions other = TinyOptions();
   other.keyframes.threshold = 0.3;
-  ExpectRefusedThenRecomputedAsFresh(capture, scene, other,
-                                     {"other options", "/keyframes/threshold"});
+  ExpectRecomputedAsFresh(capture, scene, other, {"other options", "/keyframes/threshold"});
+}
+
+// A directory holding the run of another capture is not replaced unasked.
+TEST(PipelineResumeTest, AnotherCapturesSceneIsRefused) {
+  const fs::path first = TinyCapture("first");
+  const fs::path second = TinyCapture("second");
+  const fs::path scene = test_util::FreshTestDir("pipeline_resume", "another");
+  RunPipeline(first, scene, TinyOptions());
+  const auto before = SceneFiles(scene);
+  test_util::ExpectErrorMentions([&] { RunPipeline(second, scene, TinyOptions()); },
+                                 {scene.string(), "another capture", "--no-resume"});
+  EXPECT_EQ(SceneFiles(scene), before);  // nothing of the earlier run lost
 }
 
 }  // namespace

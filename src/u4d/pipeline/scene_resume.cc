@@ -13,46 +13,50 @@
 namespace u4d {
 namespace {
 
-constexpr const char* kRecompute =
-    "write to a new directory, or run with --no-resume to recompute everything there";
-
-void CheckSameOptions(const fs::path& scene_dir, const nlohmann::json& params) {
+// The first difference between the options (and sources) of the run in
+// `scene_dir` and `params`, as "op /path", or "" when they are the same.
+std::string OptionsChange(const fs::path& scene_dir, const nlohmann::json& params) {
   const nlohmann::json before =
       RunOptions::ResumeKey(ReadJsonFile(scene_dir / layout::SceneParams()));
   const nlohmann::json now = RunOptions::ResumeKey(params);
-  if (before == now) return;
+  if (before == now) return "";
   const nlohmann::json diff = nlohmann::json::diff(before, now);
-  ThrowError(fmt::format(
-      "{} holds a run with other options or another capture (first difference: {} {}); {}",
-      scene_dir.string(), diff.at(0).value("op", ""), diff.at(0).value("path", ""), kRecompute));
+  return fmt::format("other options ({} {})", diff.at(0).value("op", ""),
+                     diff.at(0).value("path", ""));
 }
 
-void CheckSameInputs(const fs::path& scene_dir, const nlohmann::json& params,
-                     const InputFingerprint& inputs) {
+// The capture's files that changed since the run in `scene_dir` (the first
+// few), or "" when none did.
+std::string InputsChange(const fs::path& scene_dir, const InputFingerprint& inputs) {
   const fs::path path = scene_dir / layout::SceneInputs();
-  U4D_CHECK(fs::exists(path), "{} holds a run without {} (written by an earlier version); {}",
-            scene_dir.string(), layout::SceneInputs().string(), kRecompute);
+  if (!fs::exists(path))
+    return fmt::format("no {} (written by an earlier version)", layout::SceneInputs().string());
   const std::vector<std::string> changed =
       ChangedInputs(FingerprintFromJson(ReadJsonFile(path), path.string()), inputs);
-  if (changed.empty()) return;
+  if (changed.empty()) return "";
   constexpr size_t kListed = 5;
   std::vector<std::string> listed(changed.begin(),
                                   changed.begin() + std::min(changed.size(), kListed));
   const std::string more =
       changed.size() > kListed ? fmt::format(" and {} more", changed.size() - kListed) : "";
-  ThrowError(fmt::format(
-      "{} holds a run of other inputs: in the capture {}, {}{} changed since that run; {}",
-      scene_dir.string(), params.value("capture", std::string()), fmt::join(listed, ", "), more,
-      kRecompute));
+  return fmt::format("other inputs ({}{} changed)", fmt::join(listed, ", "), more);
 }
 
 }  // namespace
 
-void CheckResumable(const fs::path& scene_dir, const nlohmann::json& params,
-                    const InputFingerprint& inputs) {
-  if (!fs::exists(scene_dir / layout::SceneParams())) return;
-  CheckSameOptions(scene_dir, params);
-  CheckSameInputs(scene_dir, params, inputs);
+std::string ResumeChange(const fs::path& scene_dir, const nlohmann::json& params,
+                         const InputFingerprint& inputs) {
+  if (!fs::exists(scene_dir / layout::SceneParams())) return "";
+  const std::string before =
+      ReadJsonFile(scene_dir / layout::SceneParams()).value("capture", std::string());
+  const std::string now = params.value("capture", std::string());
+  U4D_CHECK(before == now,
+            "{} holds the run of another capture ({}, not {}); write to a new directory, or run "
+            "with --no-resume to replace that run",
+            scene_dir.string(), before, now);
+  const std::string options = OptionsChange(scene_dir, params);
+  if (!options.empty()) return options;
+  return InputsChange(scene_dir, inputs);
 }
 
 void RemoveInterruptedWrites(const fs::path& scene_dir) {

@@ -1,11 +1,16 @@
-// Whether `u4d run` may resume in a scene directory (pipeline.h "Resume"),
-// and the clean start of a run that recomputes everything.
+// Whether `u4d run` resumes in a scene directory or recomputes it
+// (pipeline.h "Resume"), and the clean start of a run that recomputes.
 //
 // A scene records what it was computed from: params.json (every option, the
 // capture's path and the sources used) and inputs.json (the capture's
 // fingerprint, io/input_fingerprint.h). A run resumes only when both equal
-// its own; anything else would mix two runs' results in one scene.
+// its own; when the same capture's files or the options changed, every stage
+// depends on them (all stages read the calibration and the masks), so the
+// run recomputes the whole scene; a directory holding another capture's run
+// is refused. Never a mix of two runs' results in one scene.
 #pragma once
+
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -14,13 +19,15 @@
 
 namespace u4d {
 
-// Returns when `scene_dir` holds no earlier run (no params.json) or one with
-// the same result-changing options (RunOptions::ResumeKey of `params`) and
-// the same inputs. Otherwise throws u4d::Error naming the first option that
-// differs, or the capture's files that changed (the first few of them), and
-// suggesting a new directory or --no-resume.
-void CheckResumable(const fs::path& scene_dir, const nlohmann::json& params,
-                    const InputFingerprint& inputs);
+// What changed since the run in `scene_dir`: "" when it holds no earlier run
+// (no params.json) or one with the same result-changing options
+// (RunOptions::ResumeKey of `params`) and the same inputs, so that the run
+// resumes; else a description naming the first option that differs, or the
+// capture's files that changed (the first few of them), and the run must
+// recompute everything (RemoveSceneOutputs). Throws u4d::Error when the
+// directory holds the run of another capture (another path), naming both.
+std::string ResumeChange(const fs::path& scene_dir, const nlohmann::json& params,
+                         const InputFingerprint& inputs);
 
 // Removes the temporary files of writes that a killed run left in
 // `scene_dir` (util/file.h IsAtomicWriteTemporary), before a run resumes there.
