@@ -34,7 +34,8 @@ std::map<int, int> LinkObjects(const std::map<int, Eigen::Vector3d>& centroids,
   for (const auto& [k, c] : centroids)
     for (const auto& [id, track] : linker->tracks) {
       const double d = (c - track.position).norm();
-      if (d <= linker->max_centroid_jump_m * (1 + track.missing)) pairs.emplace_back(d, k, id);
+      if (d <= linker->options.max_centroid_jump_m * (1 + track.missing))
+        pairs.emplace_back(d, k, id);
     }
   std::sort(pairs.begin(), pairs.end());
   std::map<int, int> link;
@@ -44,7 +45,8 @@ std::map<int, int> LinkObjects(const std::map<int, Eigen::Vector3d>& centroids,
   for (const auto& [k, c] : centroids)
     if (!link.count(k)) link[k] = linker->next_id++;
   for (auto it = linker->tracks.begin(); it != linker->tracks.end();)
-    it = ++it->second.missing > linker->max_missing_frames ? linker->tracks.erase(it) : ++it;
+    it =
+        ++it->second.missing > linker->options.max_missing_frames ? linker->tracks.erase(it) : ++it;
   for (const auto& [k, c] : centroids) linker->tracks[link[k]] = {c, 0};
   return link;
 }
@@ -98,6 +100,14 @@ void AttachFragments(const std::vector<cv::Mat>& masks, const std::vector<Sparse
 }
 
 }  // namespace
+
+void ObjectLinkOptions::Check() const {
+  U4D_CHECK(max_centroid_jump_m > 0 && std::isfinite(max_centroid_jump_m),
+            "ObjectLinkOptions.max_centroid_jump_m must be finite and > 0, got {}",
+            max_centroid_jump_m);
+  U4D_CHECK(max_missing_frames >= 0, "ObjectLinkOptions.max_missing_frames must be >= 0, got {}",
+            max_missing_frames);
+}
 
 cv::Mat KeepGivenPixels(const cv::Mat& given, const cv::Mat& named) {
   U4D_CHECK(given.type() == CV_16UC1 && named.type() == CV_16UC1 && given.size() == named.size(),

@@ -66,10 +66,17 @@ struct FrameObjects {
   ClassVotes class_votes;
 };
 
-// Identity state carried from frame to frame (no poses).
-struct ObjectLinker {
+// How objects without a pose keep their ids from frame to frame (above).
+struct ObjectLinkOptions {
   double max_centroid_jump_m = 0.5;  // farther centroids (per frame unseen) are different objects
   int max_missing_frames = 25;       // an unseen object is forgotten after this many frames
+
+  void Check() const;  // throws u4d::Error naming the field on a bad value
+};
+
+// Identity state carried from frame to frame (no poses).
+struct ObjectLinker {
+  ObjectLinkOptions options;
   struct Track {
     Eigen::Vector3d position;  // world centroid when last seen
     int missing = 0;           // frames since then

@@ -180,6 +180,7 @@ int ComputeInitialObjects(Context& c, const std::vector<std::vector<Pose3d>>& po
     }
   }
   ObjectLinker linker;  // with poses it names the objects that are not people, after them
+  linker.options = c.o.link;
   for (const auto& frame : poses)
     for (const Pose3d& p : frame) linker.next_id = std::max(linker.next_id, p.person_id + 1);
   std::vector<Eigen::Vector3d> ground_people;  // the previous frame's, for given masks

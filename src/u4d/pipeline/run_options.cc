@@ -73,6 +73,7 @@ void RunOptions::Check() const {
   pose_smoothing.Check();
   sparse.Check();
   regions.Check();
+  link.Check();
   tracks.Check();
   keyframes.Check();
   fusion.Check();
@@ -104,6 +105,13 @@ nlohmann::json RunOptions::ResumeKey(nlohmann::json params) {
   RunOptions defaults;
   EraseRunControlOptions(OptionsOf(&defaults), &params);
   return params;
+}
+
+void DeclareOptions(OptionRegistry& r, ObjectLinkOptions* o) {
+  r.Add("max_centroid_jump_m", &o->max_centroid_jump_m,
+        "farther centroids (per frame unseen) are different objects");
+  r.Add("max_missing_frames", &o->max_missing_frames,
+        "an unseen object is forgotten after this many frames");
 }
 
 void DeclareOptions(OptionRegistry& r, RunOptions* o) {
@@ -161,6 +169,7 @@ void DeclareOptions(OptionRegistry& r, RunOptions* o) {
   r.Nested("pose_smoothing", &o->pose_smoothing);
   r.Nested("sparse", &o->sparse);
   r.Nested("regions", &o->regions);
+  r.Nested("link", &o->link);
   r.Nested("tracks", &o->tracks);
   r.Nested("keyframes", &o->keyframes);
   r.Nested("fusion", &o->fusion);
