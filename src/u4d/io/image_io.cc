@@ -35,12 +35,33 @@ const char* FormatName(ImageFormat format) {
   return "unknown";
 }
 
-// The PNG header (IHDR, bytes 16-23) gives the size before anything is decoded.
-void CheckPngSize(const fs::path& path, const char* what) {
+// The first bytes of a file (fewer when it is shorter): enough for the
+// format's signature and a PNG's IHDR.
+std::string FileHeader(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
-  unsigned char header[24] = {};
-  in.read(reinterpret_cast<char*>(header), sizeof(header));
-  U4D_CHECK(in.gcount() == sizeof(header) && std::memcmp(header + 12, "IHDR", 4) == 0,
+  std::string header(24, '\0');
+  in.read(header.data(), static_cast<std::streamsize>(header.size()));
+  header.resize(static_cast<size_t>(in.gcount()));
+  return header;
+}
+
+ImageFormat FormatOfHeader(const std::string& header) {
+  const auto starts = [&](std::initializer_list<unsigned char> magic) {
+    return header.size() >= magic.size() &&
+           std::equal(magic.begin(), magic.end(), header.begin(),
+                      [](unsigned char a, char b) { return a == static_cast<unsigned char>(b); });
+  };
+  if (starts({0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A})) return ImageFormat::kPng;
+  if (starts({0xFF, 0xD8, 0xFF})) return ImageFormat::kJpeg;
+  if (starts({'B', 'M'})) return ImageFormat::kBmp;
+  if (starts({'I', 'I', 42, 0}) || starts({'M', 'M', 0, 42})) return ImageFormat::kTiff;
+  return ImageFormat::kUnknown;
+}
+
+// The PNG header (IHDR, bytes 16-23) gives the size before anything is decoded.
+void CheckPngSize(const fs::path& path, const std::string& header_bytes, const char* what) {
+  const auto* header = reinterpret_cast<const unsigned char*>(header_bytes.data());
+  U4D_CHECK(header_bytes.size() == 24 && std::memcmp(header + 12, "IHDR", 4) == 0,
             "{}: corrupt {} (PNG without an IHDR header)", path.string(), what);
   const int64_t width = ReadBigEndian32(header + 16), height = ReadBigEndian32(header + 20);
   U4D_CHECK(width > 0 && height > 0 && height <= kMaxImagePixels / width,
@@ -52,13 +73,14 @@ void CheckPngSize(const fs::path& path, const char* what) {
 cv::Mat ReadAny(const fs::path& path, int flags, const char* what,
                 std::initializer_list<ImageFormat> allowed) {
   CheckFileExists(path, what);
-  const ImageFormat format = SniffImageFormat(path);
+  const std::string header = FileHeader(path);
+  const ImageFormat format = FormatOfHeader(header);
   const bool ok = std::find(allowed.begin(), allowed.end(), format) != allowed.end();
   std::string names;
   for (ImageFormat f : allowed) names += std::string(names.empty() ? "" : ", ") + FormatName(f);
   U4D_CHECK(ok, "{}: {} is corrupt or in a format not read here (found {}, expected {})",
             path.string(), what, FormatName(format), names);
-  if (format == ImageFormat::kPng) CheckPngSize(path, what);
+  if (format == ImageFormat::kPng) CheckPngSize(path, header, what);
   cv::Mat image = cv::imread(path.string(), flags);
   U4D_CHECK(!image.empty(), "{}: cannot decode {} (corrupt {})", path.string(), what,
             FormatName(format));
@@ -79,20 +101,7 @@ void CheckDataSize(const fs::path& path, uint64_t header_bytes, uint64_t data_by
 
 }  // namespace
 
-ImageFormat SniffImageFormat(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  unsigned char m[8] = {};
-  in.read(reinterpret_cast<char*>(m), sizeof(m));
-  const auto starts = [&](std::initializer_list<unsigned char> magic) {
-    return in.gcount() >= static_cast<std::streamsize>(magic.size()) &&
-           std::equal(magic.begin(), magic.end(), m);
-  };
-  if (starts({0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A})) return ImageFormat::kPng;
-  if (starts({0xFF, 0xD8, 0xFF})) return ImageFormat::kJpeg;
-  if (starts({'B', 'M'})) return ImageFormat::kBmp;
-  if (starts({'I', 'I', 42, 0}) || starts({'M', 'M', 0, 42})) return ImageFormat::kTiff;
-  return ImageFormat::kUnknown;
-}
+ImageFormat SniffImageFormat(const fs::path& path) { return FormatOfHeader(FileHeader(path)); }
 
 cv::Mat ReadColorImage(const fs::path& path) {
   cv::Mat image =

@@ -13,11 +13,10 @@
 namespace u4d {
 namespace {
 
-// The first difference between the options (and sources) of the run in
-// `scene_dir` and `params`, as "op /path", or "" when they are the same.
-std::string OptionsChange(const fs::path& scene_dir, const nlohmann::json& params) {
-  const nlohmann::json before =
-      RunOptions::ResumeKey(ReadJsonFile(scene_dir / layout::SceneParams()));
+// The first difference between the options (and sources) of the earlier
+// run's params.json and `params`, as "op /path", or "" when they are the same.
+std::string OptionsChange(const nlohmann::json& earlier, const nlohmann::json& params) {
+  const nlohmann::json before = RunOptions::ResumeKey(earlier);
   const nlohmann::json now = RunOptions::ResumeKey(params);
   if (before == now) return "";
   const nlohmann::json diff = nlohmann::json::diff(before, now);
@@ -47,16 +46,16 @@ std::string InputsChange(const fs::path& scene_dir, const InputFingerprint& inpu
 std::string ResumeChange(const fs::path& scene_dir, const nlohmann::json& params,
                          const InputFingerprint& inputs) {
   if (!fs::exists(scene_dir / layout::SceneParams())) return "";
-  const std::string before =
-      ReadJsonFile(scene_dir / layout::SceneParams()).value("capture", std::string());
+  const nlohmann::json earlier = ReadJsonFile(scene_dir / layout::SceneParams());
+  const std::string before = earlier.value("capture", std::string());
   const std::string now = params.value("capture", std::string());
   U4D_CHECK(before == now,
             "{} holds the run of another capture ({}, not {}); write to a new directory, or run "
             "with --no-resume to replace that run",
             scene_dir.string(), before, now);
-  const std::string options = OptionsChange(scene_dir, params);
-  if (!options.empty()) return options;
-  return InputsChange(scene_dir, inputs);
+  std::string change = OptionsChange(earlier, params);
+  if (change.empty()) change = InputsChange(scene_dir, inputs);
+  return change;
 }
 
 void RemoveInterruptedWrites(const fs::path& scene_dir) {
