@@ -61,6 +61,23 @@ void Capture::Check(const std::string& context) const {
                 v.source.files.size(), num_frames);
     }
   }
+  if (source_frames.empty()) return;
+  U4D_CHECK(static_cast<int>(source_frames.size()) == num_frames,
+            "{}: source_frames lists {} frames but the capture has {}", context,
+            source_frames.size(), num_frames);
+  for (int f = 0; f < num_frames; ++f)
+    U4D_CHECK(source_frames[f] >= 0 && (f == 0 || source_frames[f] > source_frames[f - 1]),
+              "{}: source_frames must be increasing non-negative numbers ({} at frame {})", context,
+              source_frames[f], f);
+}
+
+bool ContinuesFrom(const Capture& capture, int frame, double max_gap_s) {
+  U4D_CHECK(frame >= 0 && frame < capture.num_frames, "frame {} out of range [0, {})", frame,
+            capture.num_frames);
+  if (frame == 0) return false;
+  if (capture.source_frames.empty()) return true;
+  const int64_t gap = capture.source_frames[frame] - capture.source_frames[frame - 1];
+  return static_cast<double>(gap) / capture.fps <= max_gap_s;
 }
 
 namespace {
@@ -216,6 +233,7 @@ Capture ReadCapture(const fs::path& dir) {
   capture.fps = JsonGet<double>(m, "fps", mctx);
   capture.num_frames = JsonGet<int>(m, "num_frames", mctx);
   capture.classes = JsonOptional<std::vector<std::string>>(m, "classes", capture.classes, mctx);
+  capture.source_frames = JsonOptional<std::vector<int64_t>>(m, "source_frames", {}, mctx);
   const auto views = JsonRequired<std::vector<nlohmann::json>>(m, "views", mctx);
 
   const std::string cctx = calib_path.string();
@@ -256,10 +274,11 @@ void WriteCapture(const Capture& capture, const fs::path& dir) {
     if (v.source.first_index != 0) vj["first_index"] = v.source.first_index;
     views.push_back(vj);
   }
-  const nlohmann::json manifest = {{"format", "u4d-capture"},    {"version", 1},
-                                   {"name", capture.name},       {"scene", ToString(capture.scene)},
-                                   {"fps", capture.fps},         {"num_frames", capture.num_frames},
-                                   {"classes", capture.classes}, {"views", views}};
+  nlohmann::json manifest = {{"format", "u4d-capture"},    {"version", 1},
+                             {"name", capture.name},       {"scene", ToString(capture.scene)},
+                             {"fps", capture.fps},         {"num_frames", capture.num_frames},
+                             {"classes", capture.classes}, {"views", views}};
+  if (!capture.source_frames.empty()) manifest["source_frames"] = capture.source_frames;
   WriteJsonFileAtomic(dir / "calibration.json", CalibrationToJson(capture));
   WriteJsonFileAtomic(dir / "capture.json", manifest);
 }

@@ -10,6 +10,7 @@
 //   <capture>/gt/...             optional ground truth
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -56,6 +57,10 @@ struct Capture {
   std::vector<CaptureView> views;
   // Class names; a class id k >= 1 in masks refers to classes[k-1].
   std::vector<std::string> classes = {"person"};
+  // The frame number in the source of each capture frame (strictly
+  // increasing), as importers find it in the file names; empty when the
+  // frames are consecutive. Gaps mark cuts in time (ContinuesFrom).
+  std::vector<int64_t> source_frames;
 
   int NumViews() const { return static_cast<int>(views.size()); }
   int ViewIndex(const std::string& view_name) const;  // throws when unknown
@@ -64,9 +69,17 @@ struct Capture {
 
   // Throws u4d::Error when the capture is inconsistent: no views, duplicate
   // names, a camera that fails Camera::Check, a moving view whose camera count
-  // differs from num_frames, a non-positive fps or frame count.
+  // differs from num_frames, a non-positive fps or frame count, source_frames
+  // neither empty nor num_frames increasing non-negative numbers.
   void Check(const std::string& context) const;
 };
+
+// Whether `frame` continues `frame - 1` in time: false for frame 0 and where
+// the source frames of the two lie more than `max_gap_s` seconds apart (at
+// capture.fps), e.g. the instants of a capture assembled from a long
+// recording. Nothing temporal (flow, tracks, key-frame segments, object
+// links) crosses such a cut. Throws when `frame` is out of range.
+bool ContinuesFrom(const Capture& capture, int frame, double max_gap_s);
 
 // Reads capture.json and calibration.json. Frame files are checked lazily by
 // the frame reader, not here, so a missing frame names itself when read.

@@ -32,6 +32,37 @@ TEST(Capture, RoundTripAndFrames) {
   EXPECT_EQ(reader.Read(1, 1).at<cv::Vec3b>(0, 0)[0], 1);
 }
 
+// source_frames round-trips; a gap of more than max_gap_s seconds at the
+// capture's fps is a cut; a list of the wrong length or not increasing is
+// an error naming the file.
+TEST(Capture, SourceFramesMarkCutsInTime) {
+  const fs::path dir = FreshDir("source_frames");
+  Capture c = TwoViewCapture();
+  c.num_frames = 4;
+  c.fps = 25;
+  c.source_frames = {100, 101, 125, 1000};
+  WriteCapture(c, dir);
+  const Capture back = ReadCapture(dir);
+  EXPECT_EQ(back.source_frames, c.source_frames);
+  EXPECT_FALSE(ContinuesFrom(back, 0, 1.0));
+  EXPECT_TRUE(ContinuesFrom(back, 1, 1.0));
+  EXPECT_TRUE(ContinuesFrom(back, 2, 1.0));  // 24 frames = 0.96 s
+  EXPECT_FALSE(ContinuesFrom(back, 2, 0.5));
+  EXPECT_FALSE(ContinuesFrom(back, 3, 1.0));  // 35 s
+  EXPECT_THROW(ContinuesFrom(back, 4, 1.0), Error);
+  c.source_frames.clear();  // consecutive frames
+  EXPECT_TRUE(ContinuesFrom(c, 3, 1e-9));
+
+  nlohmann::json manifest = ReadJsonFile(dir / "capture.json");
+  for (const nlohmann::json& bad : {nlohmann::json{1, 2, 3}, nlohmann::json{1, 2, 2, 3},
+                                    nlohmann::json{-1, 2, 3, 4}, nlohmann::json{1, 2, 3.5, 4}}) {
+    manifest["source_frames"] = bad;
+    WriteJsonFileAtomic(dir / "capture.json", manifest);
+    test_util::ExpectErrorMentions([&] { ReadCapture(dir); },
+                                   {(dir / "capture.json").string(), "source_frames"});
+  }
+}
+
 TEST(Capture, BadInputsNameTheProblem) {
   const fs::path dir = FreshDir("bad");
   Capture c = TwoViewCapture();

@@ -2,6 +2,7 @@
 #include "u4d/io/import_internal.h"
 
 #include <algorithm>
+#include <cctype>
 #include <functional>
 #include <map>
 #include <set>
@@ -123,6 +124,7 @@ void Finish(Capture& capture, const ImportOptions& options, double source_fps) {
     capture.num_frames = options.max_frames;
     for (CaptureView& v : capture.views)
       if (!v.source.files.empty()) v.source.files.resize(capture.num_frames);
+    if (!capture.source_frames.empty()) capture.source_frames.resize(capture.num_frames);
   }
   capture.fps = options.fps > 0 ? options.fps : source_fps;
   capture.Check("import " + capture.root.string());
@@ -148,6 +150,24 @@ void FillCommonImageFrames(Capture& capture, const std::vector<std::vector<fs::p
     src.kind = FrameSource::Kind::kImages;
     for (const std::string& key : common) src.files.push_back(Absolute(by_key[v][key]).string());
   }
+  capture.source_frames = SourceFrameNumbers(common);
+}
+
+// The keys as numbers when every key is one (digits only, at most 18 of
+// them) and they increase, else none: the frames are then taken as
+// consecutive.
+std::vector<int64_t> SourceFrameNumbers(const std::vector<std::string>& keys) {
+  std::vector<int64_t> numbers;
+  for (const std::string& key : keys) {
+    const bool digits =
+        !key.empty() && key.size() <= 18 && std::all_of(key.begin(), key.end(), [](char ch) {
+          return std::isdigit(static_cast<unsigned char>(ch));
+        });
+    if (!digits) return {};
+    numbers.push_back(std::stoll(key));
+    if (numbers.size() > 1 && numbers.back() <= numbers[numbers.size() - 2]) return {};
+  }
+  return numbers;
 }
 
 }  // namespace u4d::import_internal

@@ -56,8 +56,10 @@ fs::path FindOneFile(const fs::path& source, const std::string& suffix);
 void Finish(Capture& capture, const ImportOptions& options, double source_fps);
 
 // Views from image folders: per view the sorted files; frames are the keys
-// (`frame_key` of a file) common to all views.
+// (`frame_key` of a file) common to all views, and the capture's
+// source_frames the keys as numbers (SourceFrameNumbers).
 void FillCommonImageFrames(Capture& capture, const std::vector<std::vector<fs::path>>& files,
                            const std::function<std::string(const fs::path&)>& frame_key);
+std::vector<int64_t> SourceFrameNumbers(const std::vector<std::string>& keys);
 
 }  // namespace u4d::import_internal

@@ -241,6 +241,9 @@ TEST(ImportPanoptic, EpipolarOnImages) {
   ASSERT_EQ(capture.NumViews(), 5);
   ASSERT_EQ(capture.num_frames, 5);
   EXPECT_EQ(capture.views[0].name, "00_03");
+  // The five instants of the demo, tens of seconds apart (file names).
+  EXPECT_EQ(capture.source_frames, (std::vector<int64_t>{4500, 5514, 6859, 9348, 13007}));
+  EXPECT_FALSE(ContinuesFrom(capture, 1, 1.0));
   CheckPanopticLikeEpipolar(capture, "panoptic");
 }
 

@@ -485,6 +485,37 @@ KeyframeSelection SelectKeyframes(const Eigen::MatrixXd& similarity, double thre
   return SelectKeyframes(similarity, o);
 }
 
+KeyframeSelection SelectKeyframesInShots(Eigen::MatrixXd similarity,
+                                         const std::vector<int>& shot_starts,
+                                         const KeyframeSelectOptions& options) {
+  const int n = static_cast<int>(similarity.rows());
+  U4D_CHECK(!shot_starts.empty() && shot_starts[0] == 0,
+            "SelectKeyframesInShots: the first shot must start at frame 0");
+  std::vector<int> bounds = shot_starts;
+  bounds.push_back(n);
+  for (size_t i = 1; i < bounds.size(); ++i)
+    U4D_CHECK(bounds[i] > bounds[i - 1],
+              "SelectKeyframesInShots: shot starts {} and {} are not "
+              "increasing within the {} frames",
+              bounds[i - 1], bounds[i], n);
+  KeyframeSelection all;
+  all.threshold = options.threshold;
+  for (size_t i = 0; i + 1 < bounds.size(); ++i) {
+    const int first = bounds[i], len = bounds[i + 1] - first;
+    similarity.block(first, 0, len, first).setZero();
+    similarity.block(0, first, first, len).setZero();
+    const KeyframeSelection shot =
+        SelectKeyframes(similarity.block(first, first, len, len), options);
+    const int segment_offset = static_cast<int>(all.keyframes.size());
+    for (int k : shot.keyframes) all.keyframes.push_back(first + k);
+    for (int k : shot.frame_keyframe) all.frame_keyframe.push_back(first + k);
+    for (int s : shot.frame_segment) all.frame_segment.push_back(segment_offset + s);
+    for (int l : shot.segment_lengths) all.segment_lengths.push_back(l);
+  }
+  all.similarity = std::move(similarity);
+  return all;
+}
+
 void WriteKeyframes(const fs::path& path, const KeyframeSelection& s) {
   nlohmann::json j;
   j["format"] = "u4d-keyframes";

@@ -148,6 +148,14 @@ KeyframeSelection SelectKeyframes(const Eigen::MatrixXd& similarity,
 // The same with the default options and the given threshold.
 KeyframeSelection SelectKeyframes(const Eigen::MatrixXd& similarity, double threshold = 0.75);
 
+// Key-frames chosen within each shot, the frames [shot_starts[i],
+// shot_starts[i + 1]) (shot_starts increasing, the first 0): a capture cut in
+// time (io/capture.h, ContinuesFrom) has no segment spanning a cut. The
+// similarity across shots is set to zero. One shot gives SelectKeyframes.
+KeyframeSelection SelectKeyframesInShots(Eigen::MatrixXd similarity,
+                                         const std::vector<int>& shot_starts,
+                                         const KeyframeSelectOptions& options);
+
 // keyframes.json: {"format": "u4d-keyframes", "threshold", "num_frames",
 // "keyframes", "frame_keyframe", "frame_segment", "segment_lengths",
 // "similarity": [[...] per frame]}. Read throws naming the file on a wrong

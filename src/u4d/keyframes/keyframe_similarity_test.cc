@@ -273,6 +273,32 @@ TEST(KeyframeSelectionTest, SimilarityCoverAvoidsHubFrames) {
   EXPECT_THROW(SelectKeyframes(ks, bad), Error);
 }
 
+// Frames 0-5 all alike, cut in two shots at frame 3: no segment spans the
+// cut, each shot has its own key-frame, the similarity across is zero; one
+// shot is SelectKeyframes itself.
+TEST(KeyframeSelectionTest, NoSegmentSpansACut) {
+  const int n = 6, cut = 3;
+  const Eigen::MatrixXd ks = Eigen::MatrixXd::Constant(n, n, 0.9);
+  EXPECT_EQ(SelectKeyframes(ks, 0.75).keyframes.size(), 1u);
+  const KeyframeSelection sel = SelectKeyframesInShots(ks, {0, cut}, KeyframeSelectOptions{});
+  ASSERT_EQ(sel.keyframes.size(), 2u);
+  EXPECT_LT(sel.keyframes[0], cut);
+  EXPECT_GE(sel.keyframes[1], cut);
+  EXPECT_EQ(sel.segment_lengths, (std::vector<int>{cut, n - cut}));
+  for (int t = 0; t < n; ++t) {
+    EXPECT_EQ(sel.frame_segment[t], t < cut ? 0 : 1) << "frame " << t;
+    EXPECT_EQ(sel.frame_keyframe[t] < cut, t < cut) << "frame " << t;
+    for (int u = 0; u < n; ++u)
+      EXPECT_EQ(sel.similarity(t, u), (t < cut) == (u < cut) ? ks(t, u) : 0.0);
+  }
+  const KeyframeSelection one = SelectKeyframesInShots(ks, {0}, KeyframeSelectOptions{});
+  EXPECT_EQ(one.keyframes, SelectKeyframes(ks, 0.75).keyframes);
+  EXPECT_EQ(one.frame_segment, SelectKeyframes(ks, 0.75).frame_segment);
+  EXPECT_THROW(SelectKeyframesInShots(ks, {1, 3}, KeyframeSelectOptions{}), Error);
+  EXPECT_THROW(SelectKeyframesInShots(ks, {0, 3, 3}, KeyframeSelectOptions{}), Error);
+  EXPECT_THROW(SelectKeyframesInShots(ks, {0, n}, KeyframeSelectOptions{}), Error);
+}
+
 // ---- A generated handshake with GT masks, GT joints and SIFT tracks ----
 
 class KeyframeCaptureTest : public ::testing::Test {

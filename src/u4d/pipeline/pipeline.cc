@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <functional>
+#include <limits>
 #include <map>
 #include <set>
 #include <utility>
@@ -62,6 +63,19 @@ struct Context {
     for (const CaptureView& v : cap.views) cams.push_back(v.CameraAt(frame));
     return cams;
   }
+  // Frame `frame` continues frame - 1 in time (no cut, io/capture.h).
+  bool Continues(int frame) const { return ContinuesFrom(cap, frame, o.max_frame_gap_s); }
+  // The run's frames [f0, f1) split at the cuts, and into pieces of at most
+  // `max_frames`: [first, last) per piece.
+  std::vector<std::pair<int, int>> Shots(int max_frames = std::numeric_limits<int>::max()) const {
+    std::vector<std::pair<int, int>> shots;
+    for (int f = f0; f < f1; ++f) {
+      if (f == f0 || !Continues(f) || f - shots.back().first == max_frames)
+        shots.emplace_back(f, f);
+      shots.back().second = f + 1;
+    }
+    return shots;
+  }
 };
 
 // Frame f of every view, read in parallel.
@@ -108,6 +122,29 @@ void RunStage(Context& c, const std::string& name, bool skip_if_done, Body body)
 
 // ---- poses ----
 
+// Poses tracked and smoothed within each shot (a cut ends every track);
+// ids are unique over the run and start at 1.
+std::vector<std::vector<Pose3d>> TrackPosesInShots(const Context& c,
+                                                   const std::vector<std::vector<Pose3d>>& raw) {
+  std::vector<std::vector<Pose3d>> poses;
+  int next_id = 1;
+  for (const auto& [first, last] : c.Shots()) {
+    const std::vector<std::vector<Pose3d>> shot(raw.begin() + (first - c.f0),
+                                                raw.begin() + (last - c.f0));
+    int max_id = next_id - 1;
+    for (std::vector<Pose3d> frame :
+         SmoothTrackedPoses(TrackPoses(shot, c.o.pose_tracking), c.cap.fps, c.o.pose_smoothing)) {
+      for (Pose3d& p : frame) {
+        p.person_id += next_id;  // track ids start at 0
+        max_id = std::max(max_id, p.person_id);
+      }
+      poses.push_back(std::move(frame));
+    }
+    next_id = max_id + 1;
+  }
+  return poses;
+}
+
 std::vector<std::vector<Pose3d>> ComputePoses(Context& c) {
   std::vector<std::vector<Pose3d>> poses(c.NumFrames());
   if (c.poses == PoseSource::kGiven3d) {
@@ -133,9 +170,7 @@ std::vector<std::vector<Pose3d>> ComputePoses(Context& c) {
       raw[k] = TriangulatePoses(per_view, c.Cameras(f), c.o.pose);
       progress.Tick();
     }
-    poses = SmoothTrackedPoses(TrackPoses(raw, c.o.pose_tracking), c.cap.fps, c.o.pose_smoothing);
-    for (auto& frame : poses)
-      for (Pose3d& p : frame) p.person_id += 1;  // track ids start at 0
+    poses = TrackPosesInShots(c, raw);
   }
   if (c.poses != PoseSource::kNone)
     for (int k = 0; k < c.NumFrames(); ++k)
@@ -188,6 +223,10 @@ int ComputeInitialObjects(Context& c, const std::vector<std::vector<Pose3d>>& po
   Progress progress("initial", c.NumFrames(), c.o.progress);
   for (int k = 0; k < c.NumFrames(); ++k) {
     const int f = c.f0 + k;
+    if (!c.Continues(f)) {  // after a cut the previous people say nothing
+      linker.tracks.clear();
+      ground_people.clear();
+    }
     const std::vector<Camera> cams = c.Cameras(f);
     const std::vector<cv::Mat> images = ReadViews(c, f);
     const bool with_poses = c.poses != PoseSource::kNone;
@@ -251,8 +290,7 @@ std::vector<TemporalTrack> ComputeTracks(Context& c,
   std::vector<std::vector<TemporalTrack>> per_view(c.NumViews());
   tbb::parallel_for(0, c.NumViews(), [&](int v) {
     std::vector<TemporalTrack>& view_tracks = per_view[v];
-    for (int first = c.f0; first < c.f1; first += c.o.track_chunk_frames) {
-      const int last = std::min(c.f1, first + c.o.track_chunk_frames);
+    for (const auto& [first, last] : c.Shots(c.o.track_chunk_frames)) {
       std::vector<FrameFeatures> features;
       std::vector<cv::Mat> ids;
       std::vector<std::vector<Pose3d>> chunk_poses;
@@ -314,7 +352,11 @@ KeyframeSelection ComputeKeyframes(Context& c, const std::vector<std::vector<Pos
     obs.tracks.push_back(std::move(r));
   }
   const Eigen::MatrixXd ks = KeyframeSimilarityMatrix(obs, c.o.keyframes);
-  KeyframeSelection selection = SelectKeyframes(ks, c.o.keyframes.threshold);
+  std::vector<int> shot_starts;
+  for (const auto& shot : c.Shots()) shot_starts.push_back(shot.first - c.f0);
+  KeyframeSelectOptions select;
+  select.threshold = c.o.keyframes.threshold;
+  KeyframeSelection selection = SelectKeyframesInShots(ks, shot_starts, select);
   WriteKeyframes(c.out / layout::SceneKeyframes(), selection);
   return selection;
 }
@@ -359,7 +401,7 @@ SolvedFrame SolveFrame(Context& c, int f, const std::vector<std::vector<Pose3d>>
   Timer timer;
   JointFrameData data;
   // Frames f - 1, f, f + 1 in that order (a video is decoded forwards).
-  if (f > 0) {
+  if (c.Continues(f)) {
     data.images_prev = ReadViews(c, f - 1);
     data.masks_prev =
         in_run(f - 1) ? ReadFrameObjects(c.out, c.names, f - 1).ids : std::vector<cv::Mat>(nv);
@@ -368,7 +410,7 @@ SolvedFrame SolveFrame(Context& c, int f, const std::vector<std::vector<Pose3d>>
   data.images_t = ReadViews(c, f);
   const FrameObjects objects = ReadFrameObjects(c.out, c.names, f);
   data.masks_t = objects.ids;
-  if (f + 1 < c.cap.num_frames) {
+  if (f + 1 < c.cap.num_frames && c.Continues(f + 1)) {
     data.cameras_t1 = c.Cameras(f + 1);
     data.images_t1 = ReadViews(c, f + 1);
     data.masks_t1 =

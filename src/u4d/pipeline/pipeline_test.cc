@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "u4d/eval/evaluate.h"
+#include "u4d/features/temporal_tracks.h"
 #include "u4d/io/capture.h"
 #include "u4d/io/frame_reader.h"
 #include "u4d/io/image_io.h"
@@ -19,6 +20,7 @@
 #include "u4d/io/layout.h"
 #include "u4d/io/scene_index.h"
 #include "u4d/joint/parameters.h"
+#include "u4d/keyframes/keyframe_similarity.h"
 #include "u4d/synth/generate.h"
 #include "u4d/util/check.h"
 #include "u4d/util/data_dir.h"
@@ -317,6 +319,48 @@ TEST(PipelineTest, ResumesAndRecoversFromAnInterruption) {
   EXPECT_EQ(resumed.segments_skipped, resumed.segments - 1);
   EXPECT_TRUE(fs::exists(segment_json));
   EXPECT_EQ(ReadRunLog(scene).segments_done.size(), static_cast<size_t>(resumed.segments));
+}
+
+// Frames 0-1 and frame 2 of a capture lie 100 s apart in the source
+// (capture.json's source_frames, as imported from a long recording's
+// instants): nothing temporal crosses the cut. Frame 2 starts its own
+// segment, no track joins it to frame 1, frame 1 has no flow (there is no
+// next frame to move to), and frame 2's objects are new: no id of frame 1
+// reaches frame 2's initial or refined masks.
+TEST(PipelineTest, NothingTemporalCrossesACutInTime) {
+  const fs::path capture = SmallCapture();
+  nlohmann::json manifest = ReadJsonFile(capture / "capture.json");
+  const auto seconds_100_later = static_cast<int64_t>(100 * manifest["fps"].get<double>());
+  manifest["source_frames"] = {0, 1, seconds_100_later};
+  WriteJsonFileAtomic(capture / "capture.json", manifest);
+  const fs::path scene = test_util::FreshTestDir("pipeline", "cut");
+  RunOptions options = FastOptions();
+  options.frame_setup.working_width = 96;
+  options.poses = PoseSource::kNone;
+  options.evaluate = false;
+  RunPipeline(capture, scene, options);
+
+  const KeyframeSelection sel = ReadKeyframes(scene / layout::SceneKeyframes());
+  EXPECT_NE(sel.frame_segment[2], sel.frame_segment[1]);
+  const Capture cap = ReadCapture(capture);
+  auto ids_of = [](const cv::Mat& ids) {
+    std::set<int> out;
+    for (auto it = ids.begin<uint16_t>(); it != ids.end<uint16_t>(); ++it)
+      if (*it) out.insert(*it);
+    return out;
+  };
+  for (int v = 0; v < cap.NumViews(); ++v) {
+    const std::string& name = cap.views[v].name;
+    for (const TemporalTrack& t : ReadTemporalTracks(scene / layout::SceneTracks(name), v))
+      EXPECT_EQ(t.points.front().first <= 1, t.points.back().first <= 1) << name;
+    EXPECT_EQ(cv::norm(ReadFlo(scene / layout::SceneFlow(name, 1))), 0.0) << name;
+    const std::set<int> before = ids_of(ReadLabelImage(scene / layout::SceneInitialMask(name, 1)));
+    const std::set<int> initial = ids_of(ReadLabelImage(scene / layout::SceneInitialMask(name, 2)));
+    for (int id : ids_of(ReadLabelImage(scene / layout::SceneInstances(name, 2)))) {
+      EXPECT_TRUE(initial.count(id)) << name << " id " << id;
+      EXPECT_FALSE(before.count(id)) << name << " id " << id;
+    }
+  }
 }
 
 // A frame's outputs are written in the background while the next frame is

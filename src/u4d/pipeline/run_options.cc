@@ -59,6 +59,7 @@ void RunOptions::Check() const {
             track_chunk_frames);
   U4D_CHECK(keyframe_mask_width >= 16, "RunOptions.keyframe_mask_width must be >= 16, got {}",
             keyframe_mask_width);
+  U4D_CHECK(max_frame_gap_s > 0, "RunOptions.max_frame_gap_s must be > 0, got {}", max_frame_gap_s);
   U4D_CHECK(threads >= 0, "RunOptions.threads must be >= 0, got {}", threads);
   U4D_CHECK(!paper_weights || u4d::ToJson(joint.weights) == u4d::ToJson(JointWeights()),
             "RunOptions: joint.weights are set but paper_weights is true, so the paper's table "
@@ -148,6 +149,9 @@ void DeclareOptions(OptionRegistry& r, RunOptions* o) {
         "captures)");
   r.Add("keyframe_mask_width", &o->keyframe_mask_width,
         "masks are downscaled to this width for KS_ij");
+  r.Add("max_frame_gap_s", &o->max_frame_gap_s,
+        "frames further apart in the source than this many seconds (capture.json's "
+        "source_frames) are a cut: no flow, tracks, key-frame segment or object link crosses it");
   r.Add("evaluate", &o->evaluate, "write eval.json when the capture has gt/",
         OptionRole::kRunControl);
   r.Add("resume", &o->resume, "skip the segments an earlier run finished", OptionRole::kRunControl);

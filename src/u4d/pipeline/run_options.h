@@ -56,11 +56,16 @@ struct RunOptions {
   int track_chunk_frames = 40;    // temporal tracks are linked within chunks of this many
                                   // frames (bounded memory on long captures)
   int keyframe_mask_width = 240;  // masks are downscaled to this width for KS_ij
-  bool evaluate = true;           // write eval.json when the capture has gt/
-  bool resume = true;             // skip the segments an earlier run finished
-  int threads = 0;                // views solved in parallel (0 = TBB's default)
-  bool progress = true;           // progress bars on stderr
-  bool allow_empty = false;       // succeed even when no frame has an object (else u4d::Error)
+  // Frames further apart in the source than this (capture.json's
+  // source_frames at its fps) are a cut: nothing temporal crosses it
+  // (ContinuesFrom). A second: a walking person moves ~1.4 m in it, beyond
+  // what the flow's search and the tracks follow.
+  double max_frame_gap_s = 1.0;
+  bool evaluate = true;      // write eval.json when the capture has gt/
+  bool resume = true;        // skip the segments an earlier run finished
+  int threads = 0;           // views solved in parallel (0 = TBB's default)
+  bool progress = true;      // progress bars on stderr
+  bool allow_empty = false;  // succeed even when no frame has an object (else u4d::Error)
 
   BackgroundOptions background;   // unsupervised masks: the background model
   InitOptions init;               // unsupervised masks: foreground, people, cross-view check
