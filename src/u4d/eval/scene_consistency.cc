@@ -250,9 +250,14 @@ nlohmann::json ConsistencyReport::ToJson() const {
 
 std::string ConsistencyReport::FormatTable() const {
   std::string s = "| consistency (no ground truth needed) | value |\n|---|---|\n";
-  s += fmt::format(
-      "| S_e, masks propagated with our flow (1 - IoU) | {:.3f} ({} instance-frames) |\n",
-      se_own_flow.Mean(), se_own_flow.count);
+  // No segment of two frames or more (e.g. every frame after a cut in time):
+  // nothing was propagated.
+  if (se_own_flow.count == 0)
+    s += "| S_e, masks propagated with our flow (1 - IoU) | n/a (no segment spans two frames) |\n";
+  else
+    s += fmt::format(
+        "| S_e, masks propagated with our flow (1 - IoU) | {:.3f} ({} instance-frames) |\n",
+        se_own_flow.Mean(), se_own_flow.count);
   for (const auto& [name, se] : se_baseline)
     s += fmt::format("| S_e, masks propagated with {} | {:.3f} |\n", name, se.Mean());
   s += fmt::format("| cross-view depth agreement (agree / (agree + conflict)) | {:.3f} |\n",

@@ -142,6 +142,17 @@ TEST_F(SceneEvalTest, OracleSceneIsConsistent) {
   EXPECT_GT(r.cross_view.LabelAgreement(), 0.99);
 }
 
+// A scene whose segments are single frames (every frame after a cut in
+// time) has no S_e: the table says so instead of printing NaN.
+TEST(ConsistencyReport, NoPropagationIsNotANumber) {
+  const std::string table = ConsistencyReport().FormatTable();
+  const size_t row = table.find("| S_e, masks propagated with our flow");
+  ASSERT_NE(row, std::string::npos);
+  const std::string line = table.substr(row, table.find('\n', row) - row);
+  EXPECT_NE(line.find("n/a (no segment spans two frames)"), std::string::npos) << line;
+  EXPECT_EQ(line.find("nan"), std::string::npos) << line;
+}
+
 // Breaking one view must show in the figure that measures it: depth of cam00
 // pulled 30 % towards its camera puts its points in front of what the other
 // views see (conflicts), instance ids swapped in cam01 disagree wherever
