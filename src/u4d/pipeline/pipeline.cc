@@ -23,67 +23,22 @@
 #include "u4d/io/frame_reader.h"
 #include "u4d/io/image_io.h"
 #include "u4d/io/input_fingerprint.h"
-#include "u4d/io/instance_mask.h"
 #include "u4d/io/layout.h"
 #include "u4d/io/scene_index.h"
 #include "u4d/io/visualize.h"
 #include "u4d/joint/parameters.h"
+#include "u4d/pipeline/early_stages.h"
 #include "u4d/pipeline/initial_objects.h"
 #include "u4d/pipeline/object_classes.h"
+#include "u4d/pipeline/run_context.h"
 #include "u4d/pipeline/scene_outputs.h"
 #include "u4d/pipeline/scene_resume.h"
-#include "u4d/pipeline/view_stage.h"
-#include "u4d/pose/given_poses.h"
-#include "u4d/pose/pose_smoothing.h"
 #include "u4d/util/check.h"
 #include "u4d/util/progress.h"
 #include "u4d/util/timer.h"
 
 namespace u4d {
 namespace {
-
-// Everything the stages share. Frames run are [f0, f1); per-frame vectors
-// are indexed by k = frame - f0.
-struct Context {
-  const Capture& cap;
-  fs::path out;
-  const RunOptions& o;
-  int f0 = 0, f1 = 0;
-  std::vector<std::string> names;
-  MaskSource masks = MaskSource::kGiven;
-  PoseSource poses = PoseSource::kNone;
-  RunLog log;
-  FrameReader reader;
-  std::map<int, std::string> classes;  // object id -> class (object_classes.h)
-
-  int NumFrames() const { return f1 - f0; }
-  int NumViews() const { return cap.NumViews(); }
-  std::vector<Camera> Cameras(int frame) const {
-    std::vector<Camera> cams;
-    for (const CaptureView& v : cap.views) cams.push_back(v.CameraAt(frame));
-    return cams;
-  }
-  // Frame `frame` continues frame - 1 in time (no cut, io/capture.h).
-  bool Continues(int frame) const { return ContinuesFrom(cap, frame, o.max_frame_gap_s); }
-  // The run's frames [f0, f1) split at the cuts, and into pieces of at most
-  // `max_frames`: [first, last) per piece.
-  std::vector<std::pair<int, int>> Shots(int max_frames = std::numeric_limits<int>::max()) const {
-    std::vector<std::pair<int, int>> shots;
-    for (int f = f0; f < f1; ++f) {
-      if (f == f0 || !Continues(f) || f - shots.back().first == max_frames)
-        shots.emplace_back(f, f);
-      shots.back().second = f + 1;
-    }
-    return shots;
-  }
-};
-
-// Frame f of every view, read in parallel.
-std::vector<cv::Mat> ReadViews(Context& c, int f) {
-  std::vector<cv::Mat> images(c.NumViews());
-  tbb::parallel_for(0, c.NumViews(), [&](int v) { images[v] = c.reader.Read(v, f); });
-  return images;
-}
 
 // An input named explicitly must exist: without it the run would go on with
 // no masks or no people and write an empty scene.
@@ -107,7 +62,7 @@ PoseSource ResolvePoses(const Capture& cap, PoseSource s) {
 // Runs `body` (returning its item count) as stage `name` unless an earlier
 // run finished it; records time and peak memory, then run.json.
 template <typename Body>
-void RunStage(Context& c, const std::string& name, bool skip_if_done, Body body) {
+void RunStage(RunContext& c, const std::string& name, bool skip_if_done, Body body) {
   if (skip_if_done && c.log.StageDone(name)) {
     fmt::print("[{}] done by an earlier run, skipped\n", name);
     return;
@@ -120,254 +75,13 @@ void RunStage(Context& c, const std::string& name, bool skip_if_done, Body body)
   WriteRunLog(c.out, c.log);
 }
 
-// ---- poses ----
-
-// Poses tracked and smoothed within each shot (a cut ends every track);
-// ids are unique over the run and start at 1.
-std::vector<std::vector<Pose3d>> TrackPosesInShots(const Context& c,
-                                                   const std::vector<std::vector<Pose3d>>& raw) {
-  std::vector<std::vector<Pose3d>> poses;
-  int next_id = 1;
-  for (const auto& [first, last] : c.Shots()) {
-    const std::vector<std::vector<Pose3d>> shot(raw.begin() + (first - c.f0),
-                                                raw.begin() + (last - c.f0));
-    int max_id = next_id - 1;
-    for (std::vector<Pose3d> frame :
-         SmoothTrackedPoses(TrackPoses(shot, c.o.pose_tracking), c.cap.fps, c.o.pose_smoothing)) {
-      for (Pose3d& p : frame) {
-        p.person_id += next_id;  // track ids start at 0
-        max_id = std::max(max_id, p.person_id);
-      }
-      poses.push_back(std::move(frame));
-    }
-    next_id = max_id + 1;
-  }
-  return poses;
-}
-
-std::vector<std::vector<Pose3d>> ComputePoses(Context& c) {
-  std::vector<std::vector<Pose3d>> poses(c.NumFrames());
-  if (c.poses == PoseSource::kGiven3d) {
-    const auto all = ReadGivenPoses3d(c.cap.root, c.f1, /*allow_missing=*/true);
-    int min_id = 1;
-    for (int k = 0; k < c.NumFrames(); ++k) {
-      poses[k] = all[c.f0 + k];
-      for (const Pose3d& p : poses[k]) min_id = std::min(min_id, p.person_id);
-    }
-    // Object ids must be >= 1: shift given ids (e.g. 0-based or -1) up.
-    for (auto& frame : poses)
-      for (Pose3d& p : frame) p.person_id += 1 - min_id;
-  } else if (c.poses == PoseSource::kFrom2d) {
-    Progress progress("poses", c.NumFrames(), c.o.progress);
-    std::vector<std::vector<Pose3d>> raw(c.NumFrames());
-    for (int k = 0; k < c.NumFrames(); ++k) {
-      const int f = c.f0 + k;
-      std::vector<std::vector<Pose2d>> per_view(c.NumViews());
-      for (int v = 0; v < c.NumViews(); ++v) {
-        const fs::path path = c.cap.root / layout::Poses2d(c.names[v], f);
-        if (fs::exists(path)) per_view[v] = ReadPoses2d(path);
-      }
-      raw[k] = TriangulatePoses(per_view, c.Cameras(f), c.o.pose);
-      progress.Tick();
-    }
-    poses = TrackPosesInShots(c, raw);
-  }
-  if (c.poses != PoseSource::kNone)
-    for (int k = 0; k < c.NumFrames(); ++k)
-      WritePoses3d(c.out / layout::ScenePoses3d(c.f0 + k), poses[k]);
-  return poses;
-}
-
-std::vector<std::vector<Pose3d>> ReadScenePoses(const Context& c) {
-  std::vector<std::vector<Pose3d>> poses(c.NumFrames());
-  if (c.poses == PoseSource::kNone) return poses;
-  for (int k = 0; k < c.NumFrames(); ++k)
-    poses[k] = ReadPoses3d(c.out / layout::ScenePoses3d(c.f0 + k));
-  return poses;
-}
-
-// ---- initial objects ----
-
-std::vector<InstanceMask> ReadGivenMasks(Context& c, int frame) {
-  std::vector<InstanceMask> masks(c.NumViews());
-  for (int v = 0; v < c.NumViews(); ++v) {
-    const fs::path png = c.cap.root / layout::Mask(c.names[v], frame);
-    if (!fs::exists(png)) continue;
-    masks[v] = ReadInstanceMask(png, c.cap.root / layout::MaskInfo(c.names[v], frame));
-    CheckImageSize(masks[v].ids, c.cap.views[v].CameraAt(frame).width,
-                   c.cap.views[v].CameraAt(frame).height, png.string());
-  }
-  return masks;
-}
-
-int ComputeInitialObjects(Context& c, const std::vector<std::vector<Pose3d>>& poses) {
-  std::vector<BackgroundModel> backgrounds;
-  std::vector<ChromaKey> keys;
-  if (c.masks == MaskSource::kUnsupervised) {
-    for (int v = 0; v < c.NumViews(); ++v) {
-      U4D_CHECK(!c.cap.views[v].IsMoving(),
-                "view {} moves: unsupervised masks need static cameras (give masks/ instead)",
-                c.names[v]);
-      ViewStage stage = ReadViewStage(
-          c.cap, v, [&](int f) { return c.reader.Read(v, f); }, c.o.background, c.o.chroma_key);
-      backgrounds.push_back(std::move(stage.background));
-      keys.push_back(stage.key);
-    }
-  }
-  ObjectLinker linker;  // with poses it names the objects that are not people, after them
-  linker.options = c.o.link;
-  for (const auto& frame : poses)
-    for (const Pose3d& p : frame) linker.next_id = std::max(linker.next_id, p.person_id + 1);
-  std::vector<Eigen::Vector3d> ground_people;  // the previous frame's, for given masks
-  std::vector<int> empty_frames;
-  Progress progress("initial", c.NumFrames(), c.o.progress);
-  for (int k = 0; k < c.NumFrames(); ++k) {
-    const int f = c.f0 + k;
-    if (!c.Continues(f)) {  // after a cut the previous people say nothing
-      linker.tracks.clear();
-      ground_people.clear();
-    }
-    const std::vector<Camera> cams = c.Cameras(f);
-    const std::vector<cv::Mat> images = ReadViews(c, f);
-    const bool with_poses = c.poses != PoseSource::kNone;
-    // The ground-plane step (init.h step 6) names people alike in every
-    // view: unsupervised masks come from it, given masks go through it.
-    const bool ground = UsesGroundOccupancy(c.o.init, static_cast<int>(cams.size()));
-    const std::vector<InstanceMask> given =
-        c.masks == MaskSource::kGiven ? ReadGivenMasks(c, f) : std::vector<InstanceMask>();
-    std::vector<cv::Mat> masks = IdImages(given);
-    if (c.masks == MaskSource::kUnsupervised)
-      masks = UnsupervisedInstanceMasks(cams, images, backgrounds, c.o.init, keys);
-    if (c.masks == MaskSource::kGiven && !with_poses && ground)
-      masks = GroundPeopleFromDetections(cams, masks, c.o.init, &ground_people);
-    // With poses, instances that are not people become objects without a pose.
-    FrameObjects objects =
-        !with_poses
-            ? ObjectsFromSparse(cams, images, masks, c.o.sparse, c.o.regions, &linker, ground)
-        : given.empty()
-            ? ObjectsFromPoses(cams, masks, poses[k], c.o.frame_setup)
-            : ObjectsFromPosesAndOthers(cams, images, IdImages(KeepInstances(given, true)),
-                                        IdImages(KeepInstances(given, false)), poses[k],
-                                        c.o.frame_setup, c.o.sparse, c.o.regions, &linker);
-    if (!given.empty()) objects.class_votes = VoteObjectClasses(objects.ids, given);
-    WriteFrameObjects(c.out, c.names, f, objects);
-    bool any = false;
-    for (const cv::Mat& ids : objects.ids) any = any || (!ids.empty() && cv::countNonZero(ids) > 0);
-    if (!any) empty_frames.push_back(f);
-    progress.Tick();
-  }
-  c.log.empty_frames = empty_frames;
-  return c.NumFrames();
-}
-
-// A run with no object in any frame fails (unless allowed) with what would
-// help; one with some empty frames warns. Called after the initial stage is
-// recorded, so that a rerun with allow_empty resumes from it.
-void CheckNotEmpty(const Context& c) {
-  const std::vector<int>& empty = c.log.empty_frames;
-  if (empty.empty()) return;
-  const bool all = static_cast<int>(empty.size()) == c.NumFrames();
-  U4D_CHECK(!all || c.o.allow_empty,
-            "{}: no object found in any view at any of the {} frames run (masks: {}). "
-            "Give initial masks (masks/<view>/<frame>.png, docs/formats.md) or 3D or 2D poses "
-            "(poses3d/, poses2d/); without them people are found only where they move against "
-            "the background of the capture's frames, unless the capture holds a clean plate "
-            "(background/<view>.png) or is keyed (--chroma-key on). --allow-empty accepts an "
-            "empty scene.",
-            c.cap.root.string(), c.NumFrames(), ToString(c.masks));
-  fmt::print(
-      "[initial] warning: no object found in any view at {} of {} frames (first: {}); "
-      "those frames stay empty (run.json lists them)\n",
-      empty.size(), c.NumFrames(), empty.front());
-}
-
-// ---- temporal tracks ----
-
-// The views run in parallel (each reads only its own frames).
-std::vector<TemporalTrack> ComputeTracks(Context& c,
-                                         const std::vector<std::vector<Pose3d>>& poses) {
-  Progress progress("tracks", int64_t(c.NumFrames()) * c.NumViews(), c.o.progress);
-  std::vector<std::vector<TemporalTrack>> per_view(c.NumViews());
-  tbb::parallel_for(0, c.NumViews(), [&](int v) {
-    std::vector<TemporalTrack>& view_tracks = per_view[v];
-    for (const auto& [first, last] : c.Shots(c.o.track_chunk_frames)) {
-      std::vector<FrameFeatures> features;
-      std::vector<cv::Mat> ids;
-      std::vector<std::vector<Pose3d>> chunk_poses;
-      for (int f = first; f < last; ++f) {
-        const fs::path png = c.out / layout::SceneInitialMask(c.names[v], f);
-        ids.push_back(fs::exists(png) ? ReadLabelImage(png) : cv::Mat());
-        features.push_back(DetectFrameFeatures(c.reader.Read(v, f), ids.back(), c.o.tracks));
-        chunk_poses.push_back(poses[f - c.f0]);
-        progress.Tick();
-      }
-      for (TemporalTrack& t : LinkFeatureTracks(v, first, features, c.o.tracks))
-        view_tracks.push_back(std::move(t));
-      if (c.poses != PoseSource::kNone && c.o.tracks.add_joint_tracks)
-        for (TemporalTrack& t : JointTracks(c.cap, v, first, chunk_poses, ids, c.o.tracks))
-          view_tracks.push_back(std::move(t));
-    }
-    WriteTemporalTracks(c.out / layout::SceneTracks(c.names[v]), c.names[v], v, view_tracks);
-  });
-  std::vector<TemporalTrack> all;
-  for (std::vector<TemporalTrack>& view_tracks : per_view)
-    for (TemporalTrack& t : view_tracks) all.push_back(std::move(t));
-  return all;
-}
-
-std::vector<TemporalTrack> ReadSceneTracks(const Context& c) {
-  std::vector<TemporalTrack> all;
-  for (int v = 0; v < c.NumViews(); ++v)
-    for (TemporalTrack& t : ReadTemporalTracks(c.out / layout::SceneTracks(c.names[v]), v))
-      all.push_back(std::move(t));
-  return all;
-}
-
-// ---- key-frames ----
-
-KeyframeSelection ComputeKeyframes(Context& c, const std::vector<std::vector<Pose3d>>& poses,
-                                   const std::vector<TemporalTrack>& tracks) {
-  KeyframeObservations obs;
-  obs.num_frames = c.NumFrames();
-  obs.poses = poses;
-  obs.masks.resize(c.NumViews());
-  for (int k = 0; k < c.NumFrames(); ++k) {
-    const FrameObjects objects = ReadFrameObjects(c.out, c.names, c.f0 + k);
-    for (int v = 0; v < c.NumViews(); ++v) {
-      InstanceMask m;
-      if (!objects.ids[v].empty()) {
-        // The terms compare shapes and positions relative to the image, so a
-        // downscaled mask keeps them while bounding memory.
-        const cv::Mat small =
-            DownscaleToWidth(objects.ids[v], c.o.keyframe_mask_width, /*nearest=*/true);
-        m = ToInstanceMask(small);
-      }
-      obs.masks[v].push_back(m);
-    }
-  }
-  // Track frames relative to f0, as the observations'.
-  for (const TemporalTrack& t : tracks) {
-    TemporalTrack r = t;
-    for (auto& [frame, x] : r.points) frame -= c.f0;
-    obs.tracks.push_back(std::move(r));
-  }
-  const Eigen::MatrixXd ks = KeyframeSimilarityMatrix(obs, c.o.keyframes);
-  std::vector<int> shot_starts;
-  for (const auto& shot : c.Shots()) shot_starts.push_back(shot.first - c.f0);
-  KeyframeSelectOptions select;
-  select.threshold = c.o.keyframes.threshold;
-  KeyframeSelection selection = SelectKeyframesInShots(ks, shot_starts, select);
-  WriteKeyframes(c.out / layout::SceneKeyframes(), selection);
-  return selection;
-}
-
 // ---- segments ----
 
 struct Segment {
   int index = 0, keyframe = 0, first = 0, last = 0;  // capture frames
 };
 
-std::vector<Segment> Segments(const Context& c, const KeyframeSelection& sel) {
+std::vector<Segment> Segments(const RunContext& c, const KeyframeSelection& sel) {
   std::vector<Segment> segments(sel.keyframes.size());
   for (size_t s = 0; s < segments.size(); ++s) {
     segments[s].index = static_cast<int>(s);
@@ -394,7 +108,7 @@ struct SolvedFrame {
   std::vector<cv::Mat> labels, depth, flow;
 };
 
-SolvedFrame SolveFrame(Context& c, int f, const std::vector<std::vector<Pose3d>>& poses,
+SolvedFrame SolveFrame(RunContext& c, int f, const std::vector<std::vector<Pose3d>>& poses,
                        const std::vector<TemporalTrack>& tracks, const JointViewOptions& joint) {
   const int nv = c.NumViews();
   auto in_run = [&](int g) { return g >= c.f0 && g < c.f1; };
@@ -468,7 +182,7 @@ SolvedFrame SolveFrame(Context& c, int f, const std::vector<std::vector<Pose3d>>
 }
 
 // The scene's maps of a solved frame, at camera size.
-void WriteFrameMaps(const Context& c, const SolvedFrame& s) {
+void WriteFrameMaps(const RunContext& c, const SolvedFrame& s) {
   for (size_t v = 0; v < s.labels.size(); ++v) {
     JointViewResult r;
     r.labels = s.labels[v];
@@ -493,7 +207,7 @@ std::set<int> ObjectIds(const SolvedFrame& s) {
 // frame also starts each object's animation) and the animations tracked from
 // `previous` (frame f - 1, null at the segment's first frame) to it. Adds the
 // parts' seconds to `parts`.
-void WriteFrameOutputs(const Context& c, const Segment& seg, const SolvedFrame& current,
+void WriteFrameOutputs(const RunContext& c, const Segment& seg, const SolvedFrame& current,
                        const SolvedFrame* previous, std::map<int, AnimatedMesh>& animations,
                        RunLog& parts) {
   Timer timer;
@@ -538,7 +252,7 @@ void WriteFrameOutputs(const Context& c, const Segment& seg, const SolvedFrame& 
 
 // A segment's animated meshes (one glTF per object) and its segment.json,
 // after its last frame's outputs.
-void WriteSegmentAnimation(const Context& c, const Segment& seg,
+void WriteSegmentAnimation(const RunContext& c, const Segment& seg,
                            const std::map<int, AnimatedMesh>& animations, RunLog& parts) {
   Timer timer;
   const fs::path dir = c.out / layout::SceneSegmentDir(seg.index);
@@ -566,7 +280,7 @@ void WriteSegmentAnimation(const Context& c, const Segment& seg,
 // segment's files are written; an error (in a solve or in the background)
 // is rethrown after the background task has finished, so a segment whose
 // files were all written is still reported done.
-void RunSegments(Context& c, const std::vector<Segment>& todo,
+void RunSegments(RunContext& c, const std::vector<Segment>& todo,
                  const std::vector<std::vector<Pose3d>>& poses,
                  const std::vector<TemporalTrack>& tracks, const JointViewOptions& joint,
                  Progress* progress, const std::function<void(const Segment&)>& segment_done) {
@@ -619,7 +333,7 @@ void RunSegments(Context& c, const std::vector<Segment>& todo,
 
 // ---- scene.json ----
 
-void WriteIndex(const Context& c, const KeyframeSelection& sel, const std::vector<Segment>& segs,
+void WriteIndex(const RunContext& c, const KeyframeSelection& sel, const std::vector<Segment>& segs,
                 bool has_eval) {
   SceneIndex index;
   index.name = c.cap.name;
@@ -678,8 +392,8 @@ RunResult RunPipeline(const fs::path& capture_dir, const fs::path& scene_dir,
   // pose term's (joint.pose; frame_setup.pose is not an option of its own).
   RunOptions resolved = options;
   resolved.frame_setup.pose = options.joint.pose;
-  Context c{cap, scene_dir, resolved, options.first_frame, f1, {},
-            {},  {},        {},       FrameReader(cap),    {}};
+  RunContext c{cap, scene_dir, resolved, options.first_frame, f1, {},
+               {},  {},        {},       FrameReader(cap),    {}};
   for (const CaptureView& v : cap.views) c.names.push_back(v.name);
   c.masks = ResolveMasks(cap, options.masks);
   c.poses = ResolvePoses(cap, options.poses);
