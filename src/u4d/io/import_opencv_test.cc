@@ -104,6 +104,7 @@ TEST(ImportOpenCv, PerCameraXmlInMillimetresWithVideos) {
   ASSERT_EQ(c.NumViews(), 4);
   EXPECT_EQ(c.num_frames, 3);
   EXPECT_NEAR(c.fps, 50.0, 1e-6);
+  EXPECT_TRUE(c.source_frames.empty());  // videos: consecutive frames
   for (int v = 0; v < 4; ++v) {
     EXPECT_EQ(c.views[v].name, "cam" + std::to_string(v + 1));
     EXPECT_EQ(c.views[v].source.kind, FrameSource::Kind::kVideo);
@@ -152,6 +153,8 @@ TEST(ImportOpenCv, SingleYamlWithSampleSpellingsAndImageFolders) {
   const Capture c = ImportOpenCv(dir);
   ASSERT_EQ(c.NumViews(), 3);
   EXPECT_EQ(c.num_frames, 2);  // frames paired by number across differently named files
+  EXPECT_EQ(c.source_frames, (std::vector<int64_t>{7, 8}));  // consecutive: no cut
+  EXPECT_TRUE(ContinuesFrom(c, 1, 1.0));
   for (int v = 0; v < 3; ++v) {
     EXPECT_EQ(c.views[v].name, "cam_" + std::to_string(v));
     EXPECT_EQ(c.views[v].source.kind, FrameSource::Kind::kImages);

@@ -15,6 +15,7 @@
 #include "u4d/io/frame_reader.h"
 #include "u4d/io/import_calibration.h"
 #include "u4d/io/import_fourda.h"
+#include "u4d/io/import_internal.h"
 #include "u4d/util/check.h"
 #include "u4d/util/data_dir.h"
 #include "u4d/util/testing.h"
@@ -634,6 +635,18 @@ TEST(ImportEasyMocap, RoundTripFromPanoptic) {
 
 // ---- self-contained native capture ------------------------------------------
 
+// File names' frame keys as source frame numbers: digits only, increasing,
+// else none (the frames are then taken as consecutive).
+TEST(ImportCapture, SourceFrameNumbersFromKeys) {
+  using import_internal::SourceFrameNumbers;
+  EXPECT_EQ(SourceFrameNumbers({"000100", "000101", "000250"}),
+            (std::vector<int64_t>{100, 101, 250}));
+  EXPECT_TRUE(SourceFrameNumbers({"000100", "take2"}).empty());
+  EXPECT_TRUE(SourceFrameNumbers({"10", "9"}).empty());  // text order is not number order
+  EXPECT_TRUE(SourceFrameNumbers({"1234567890123456789"}).empty());  // 19 digits
+  EXPECT_TRUE(SourceFrameNumbers({""}).empty());
+}
+
 TEST(ImportCapture, WriteImportedCaptureIsSelfContained) {
   U4D_SKIP_WITHOUT_SHARED_DATA(kData / "panoptic_demo");
   TempDir tmp("native");
@@ -643,6 +656,9 @@ TEST(ImportCapture, WriteImportedCaptureIsSelfContained) {
   EXPECT_EQ(imported.num_frames, 2);
   const Capture native = WriteImportedCapture(imported, tmp.path() / "cap");
   EXPECT_EQ(native.num_frames, 2);
+  // max_frames keeps the first frames' source numbers; the written capture
+  // reads them back.
+  EXPECT_EQ(ReadCapture(tmp.path() / "cap").source_frames, (std::vector<int64_t>{4500, 5514}));
   ASSERT_EQ(native.NumViews(), 5);
   FrameReader a(imported), b(native);
   for (int v = 0; v < 5; ++v) {
