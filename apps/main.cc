@@ -8,7 +8,9 @@
 #include "apps/commands.h"
 #include "u4d/util/check.h"
 
-int main(int argc, char** argv) {
+namespace {
+
+int RunCli(int argc, char** argv) {
   CLI::App app{"U4D: unsupervised 4D dynamic scene understanding from multi-view video"};
   app.require_subcommand(1);
   bool verbose = false;
@@ -41,4 +43,20 @@ int main(int argc, char** argv) {
     }
   }
   return 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Setting up the command table throws only on a bug in U4D (say, two
+  // commands declaring the same option): exit 2 as for a command's bug.
+  try {
+    return RunCli(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "u4d: internal error: %s\n", e.what());
+    return 2;
+  } catch (...) {
+    std::fprintf(stderr, "u4d: internal error: unknown exception\n");
+    return 2;
+  }
 }

@@ -211,6 +211,7 @@ cv::Mat SgbmFusedDepth(const std::vector<Camera>& cameras, const std::vector<cv:
       SelectStereoPairs(cameras, ref_view, 0.5 * (depth_near + depth_far), options);
   const Camera& ref = cameras[ref_view];
   std::vector<cv::Mat> depths;
+  depths.reserve(aux.size());
   for (int a : aux)
     depths.push_back(SgbmPairDepth(ref, images[ref_view], cameras[a], images[a], depth_near,
                                    depth_far, options));

@@ -191,6 +191,7 @@ void ProjectionError(const Scene& s, ConsistencyReport* r) {
     }
     if (meshes.empty()) continue;
     std::vector<const open3d::geometry::TriangleMesh*> ptrs;
+    ptrs.reserve(meshes.size());
     for (const auto& m : meshes) ptrs.push_back(&m);
     for (int v = 0; v < s.capture.NumViews(); ++v) {
       const cv::Mat rendered = RasterizeMeshes(ptrs, labels, s.CameraOf(v, f)).labels;

@@ -2,6 +2,8 @@
 
 #include <limits>
 #include <map>
+#include <utility>
+#include <vector>
 
 #include <open3d/geometry/KDTreeFlann.h>
 #include <open3d/geometry/PointCloud.h>
@@ -49,8 +51,8 @@ SegmentDrift Evaluate(const AnimatedMesh& seg, const fs::path& capture_root,
   // Match to the GT person with the smallest median vertex distance.
   double best = std::numeric_limits<double>::infinity();
   std::vector<int> match;
-  std::vector<double> d0;  // distance of each vertex to its match
-  open3d::geometry::TriangleMesh gt0;
+  std::vector<double> d0;            // distance of each vertex to its match
+  std::vector<Eigen::Vector3d> gt0;  // vertices of the matched GT mesh, first frame
   for (int id : gt_ids) {
     const fs::path path = capture_root / layout::GtMesh(id, seg.first_frame);
     if (!fs::exists(path)) continue;
@@ -59,7 +61,13 @@ SegmentDrift Evaluate(const AnimatedMesh& seg, const fs::path& capture_root,
     std::vector<double> d;
     NearestVertices(seg.positions[0], m, &mi, &d);
     const double med = Median(d);
-    if (med < best) best = med, out.gt_id = id, match = mi, d0 = d, gt0 = std::move(m);
+    if (med < best) {
+      best = med;
+      out.gt_id = id;
+      match = std::move(mi);
+      d0 = std::move(d);
+      gt0 = std::move(m.vertices_);  // TriangleMesh itself has no move assignment
+    }
   }
   if (out.gt_id == 0) return out;
   std::vector<int> followed;
@@ -74,15 +82,15 @@ SegmentDrift Evaluate(const AnimatedMesh& seg, const fs::path& capture_root,
     U4D_CHECK(fs::exists(path), "vertex drift: {} is missing (segment of object {} from frame {})",
               path.string(), seg.object_id, seg.first_frame);
     const open3d::geometry::TriangleMesh gtk = ReadMesh(path);
-    U4D_CHECK(gtk.vertices_.size() == gt0.vertices_.size(),
+    U4D_CHECK(gtk.vertices_.size() == gt0.size(),
               "vertex drift: {} has {} vertices, frame {} had {}: GT vertex identities differ",
-              path.string(), gtk.vertices_.size(), seg.first_frame, gt0.vertices_.size());
+              path.string(), gtk.vertices_.size(), seg.first_frame, gt0.size());
     std::vector<double> drift, motion;
     for (int i : followed) {
       const int m = match[i];
-      const Eigen::Vector3d expected = gtk.vertices_[m] + (seg.positions[0][i] - gt0.vertices_[m]);
+      const Eigen::Vector3d expected = gtk.vertices_[m] + (seg.positions[0][i] - gt0[m]);
       drift.push_back((seg.positions[k][i] - expected).norm());
-      motion.push_back((gtk.vertices_[m] - gt0.vertices_[m]).norm());
+      motion.push_back((gtk.vertices_[m] - gt0[m]).norm());
     }
     out.median_drift.push_back(Median(drift));
     out.median_motion.push_back(Median(motion));

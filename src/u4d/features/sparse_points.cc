@@ -278,6 +278,7 @@ InstanceAssociation AssociateInstances(const std::vector<Camera>& cameras,
     if (views_of[find(i)].size() >= 2) cluster_votes[find(i)] += label_votes[i];
   }
   std::vector<std::pair<int, int>> order;  // (-votes, root)
+  order.reserve(cluster_votes.size());
   for (const auto& [root, votes] : cluster_votes) order.emplace_back(-votes, root);
   std::sort(order.begin(), order.end());
   std::map<int, int> object_of_root;

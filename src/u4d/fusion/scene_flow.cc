@@ -57,7 +57,7 @@ Eigen::Vector2d SampleFlow(const cv::Mat& flow, const cv::Mat& ids, int object_i
            (ids.empty() || ids.at<uint16_t>(y, x) == object_id);
   };
   auto f = [&](int x, int y) {
-    const cv::Vec2f v = flow.at<cv::Vec2f>(y, x);
+    const cv::Vec2f& v = flow.at<cv::Vec2f>(y, x);
     return Eigen::Vector2d(v[0], v[1]);
   };
   if (ok(x0, y0) && ok(x0 + 1, y0) && ok(x0, y0 + 1) && ok(x0 + 1, y0 + 1)) {

@@ -74,6 +74,7 @@ OccupancyMap MakeGrid(const std::vector<Camera>& cameras, const InitOptions& opt
   m.up = RigUpDirection(cameras);
   const Eigen::Vector3d centre = AxesCentre(cameras);
   std::vector<double> distances;
+  distances.reserve(cameras.size());
   for (const Camera& c : cameras) distances.push_back((c.Center() - centre).norm());
   std::nth_element(distances.begin(), distances.begin() + nv / 2, distances.end());
   const double half = options.ground.occupancy_extent * distances[nv / 2];

@@ -17,7 +17,7 @@ bool IsPicture(const fs::path& p) {
 }
 
 cv::Mat ReadPlateFrame(const fs::path& path, int width, int height) {
-  const cv::Mat image = ReadColorImage(path);
+  cv::Mat image = ReadColorImage(path);
   U4D_CHECK(image.cols == width && image.rows == height,
             "{}: the clean plate is {}x{}, the camera {}x{}", path.string(), image.cols, image.rows,
             width, height);
@@ -45,6 +45,7 @@ std::vector<cv::Mat> ReadCleanPlate(const fs::path& capture_root, const std::str
     }
   }
   std::vector<cv::Mat> frames;
+  frames.reserve(files.size());
   for (const fs::path& file : files) frames.push_back(ReadPlateFrame(file, width, height));
   return frames;
 }

@@ -41,7 +41,7 @@ std::string KeyList(const std::vector<std::string>& keys) {
 // The first spelling present; throws naming the spellings when none is.
 std::string RequiredKey(const cv::FileNode& map, const std::vector<std::string>& keys,
                         const std::string& what, const std::string& context) {
-  const std::string key = FirstKey(map, keys);
+  std::string key = FirstKey(map, keys);
   U4D_CHECK(!key.empty(), "{}: no {} (expected one of the keys {})", context, what, KeyList(keys));
   return key;
 }
@@ -152,7 +152,7 @@ std::vector<fs::path> CalibrationFiles(const fs::path& source, fs::path* media_r
 // The frame number of an image: the last run of digits of its stem (the
 // stem itself when it has none), so cam1_0007.png and cam2_0007.png pair.
 std::string FrameKey(const fs::path& p) {
-  const std::string stem = p.stem().string();
+  std::string stem = p.stem().string();
   size_t end = stem.size();
   while (end > 0 && !std::isdigit(static_cast<unsigned char>(stem[end - 1]))) --end;
   size_t begin = end;

@@ -16,6 +16,7 @@ namespace {
 std::vector<std::array<float, 3>> MakeColorWheel() {
   const int ry = 15, yg = 6, gc = 4, cb = 11, bm = 13, mr = 6;
   std::vector<std::array<float, 3>> w;
+  w.reserve(ry + yg + gc + cb + bm + mr);
   for (int i = 0; i < ry; ++i) w.push_back({255.f, 255.f * i / ry, 0.f});
   for (int i = 0; i < yg; ++i) w.push_back({255.f - 255.f * i / yg, 255.f, 0.f});
   for (int i = 0; i < gc; ++i) w.push_back({0.f, 255.f, 255.f * i / gc});
@@ -119,7 +120,7 @@ cv::Mat ColorizeFlow(const cv::Mat& flow32fc2, double max_magnitude) {
   cv::Mat out(flow32fc2.size(), CV_8UC3);
   for (int y = 0; y < flow32fc2.rows; ++y)
     for (int x = 0; x < flow32fc2.cols; ++x) {
-      const cv::Vec2f f = flow32fc2.at<cv::Vec2f>(y, x);
+      const cv::Vec2f& f = flow32fc2.at<cv::Vec2f>(y, x);
       const cv::Vec3b rgb = FlowColor(f[0], f[1], max_magnitude);
       out.at<cv::Vec3b>(y, x) = {rgb[2], rgb[1], rgb[0]};
     }
@@ -156,7 +157,7 @@ double MaxFlowMagnitude(const cv::Mat& flow32fc2, const cv::Mat& valid) {
   for (int y = 0; y < flow32fc2.rows; ++y)
     for (int x = 0; x < flow32fc2.cols; ++x) {
       if (!valid.empty() && valid.at<uint8_t>(y, x) == 0) continue;
-      const cv::Vec2f f = flow32fc2.at<cv::Vec2f>(y, x);
+      const cv::Vec2f& f = flow32fc2.at<cv::Vec2f>(y, x);
       if (std::isfinite(f[0]) && std::isfinite(f[1]) && std::abs(f[0]) < 1e9f &&
           std::abs(f[1]) < 1e9f)
         m = std::max(m, static_cast<double>(std::hypot(f[0], f[1])));

@@ -46,7 +46,7 @@ std::vector<cv::Mat> SemanticLabelMaps(const JointViewInput& in) {
     cv::Mat map_x(ref.size(), CV_32F), map_y(ref.size(), CV_32F);
     for (int y = 0; y < ref.rows; ++y)
       for (int x = 0; x < ref.cols; ++x) {
-        const cv::Vec2f f = flow.at<cv::Vec2f>(y, x);
+        const cv::Vec2f& f = flow.at<cv::Vec2f>(y, x);
         map_x.at<float>(y, x) = x + f[0];
         map_y.at<float>(y, x) = y + f[1];
       }

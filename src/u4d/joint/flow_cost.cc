@@ -298,7 +298,7 @@ MotionCostVolume ComputeFlowCostVolume(const FlowCostInput& input,
   };
 
   tbb::parallel_for(0, L, [&](int l) {
-    const Eigen::Vector2f m = motions[l];
+    const Eigen::Vector2f& m = motions[l];
     float* out = &volume.cost[static_cast<size_t>(l) * S];
     if (options.temporal) {
       cv::Mat c(rh, rw, CV_32F);
@@ -410,7 +410,7 @@ cv::Mat FlowFieldCosts(const FlowCostInput& input, const cv::Mat& flow,
     float* row = out.ptr<float>(y);
     for (int x = 0; x < W; ++x) {
       if (!P.in_roi[y * W + x]) continue;
-      const cv::Vec2f fv = flow.at<cv::Vec2f>(y, x);
+      const cv::Vec2f& fv = flow.at<cv::Vec2f>(y, x);
       const Eigen::Vector2f m(fv[0], fv[1]);
       U4D_CHECK(m.allFinite(), "FlowFieldCosts: flow at ({}, {}) is not finite", x, y);
       float cost = 0;

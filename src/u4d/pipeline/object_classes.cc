@@ -44,6 +44,7 @@ ClassVotes VoteObjectClasses(const std::vector<cv::Mat>& objects,
 
 std::vector<cv::Mat> IdImages(const std::vector<InstanceMask>& masks) {
   std::vector<cv::Mat> ids;
+  ids.reserve(masks.size());
   for (const InstanceMask& m : masks) ids.push_back(m.ids);
   return ids;
 }

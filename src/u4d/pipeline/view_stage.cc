@@ -18,6 +18,7 @@ ViewStage ReadViewStage(const Capture& capture, int v,
   if (chroma.mode != ChromaKeyOptions::Mode::kOff) {
     const int n = capture.num_frames, m = std::min(n, chroma.max_frames);
     std::vector<cv::Mat> frames;
+    frames.reserve(static_cast<size_t>(std::max(m, 0)));
     for (int k = 0; k < m; ++k) frames.push_back(read_frame(m == 1 ? 0 : k * (n - 1) / (m - 1)));
     stage.key = ChooseChromaKey(frames, chroma, name);
     if (stage.key.keyed) {

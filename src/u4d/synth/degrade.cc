@@ -362,6 +362,7 @@ DegradedMask DegradeInstanceMask(const cv::Mat& gt_ids, const cv::Mat& parts,
     }
   }
   std::vector<int> gt_list;
+  gt_list.reserve(boxes.size());
   for (const auto& [id, box] : boxes) gt_list.push_back(id);
   const int n = static_cast<int>(gt_list.size());
 
@@ -434,6 +435,7 @@ DegradedMask DegradeInstanceMask(const cv::Mat& gt_ids, const cv::Mat& parts,
     for (int x = 0; x < size.width; ++x) w[x] = index_of_id[in[x]];
   }
   std::vector<Rng> instance_rngs;
+  instance_rngs.reserve(n);
   for (int i = 0; i < n; ++i)
     instance_rngs.emplace_back(Mix(call_seed, kInstanceStream + static_cast<uint64_t>(gt_list[i])));
   if (have_parts) {

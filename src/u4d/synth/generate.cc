@@ -485,7 +485,7 @@ SynthOptions SmallHandshakeOptions(int num_views, int width, int height, int num
 
 fs::path WriteCaptureToTempDir(const std::string& name, const SynthOptions& options,
                                SynthSummary* summary) {
-  const fs::path dir =
+  fs::path dir =
       fs::temp_directory_path() / fmt::format("u4d_{}_{}", name, static_cast<long>(::getpid()));
   fs::remove_all(dir);
   const SynthSummary s = WriteSyntheticCapture(options, dir);

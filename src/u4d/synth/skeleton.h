@@ -43,11 +43,11 @@ struct BodyShape {
   double width = 1.0;    // lateral scale of shoulders, hips and limb girth
   Joints3d rest{};       // rest-pose joint positions (see the file comment)
   // End points of the segments without a child joint, rest pose.
-  Eigen::Vector3d rest_toe[2];       // [0] right, [1] left: tip of the foot, on the floor
-  Eigen::Vector3d rest_heel[2];      // back of the foot, on the floor
-  Eigen::Vector3d rest_hand_tip[2];  // fingertips
-  Eigen::Vector3d rest_head_centre;  // centre of the head ellipsoid
-  Eigen::Vector3d head_radii;        // its half axes (x, y, z)
+  std::array<Eigen::Vector3d, 2> rest_toe;   // [0] right, [1] left: tip of the foot, on the floor
+  std::array<Eigen::Vector3d, 2> rest_heel;  // back of the foot, on the floor
+  std::array<Eigen::Vector3d, 2> rest_hand_tip;  // fingertips
+  Eigen::Vector3d rest_head_centre;              // centre of the head ellipsoid
+  Eigen::Vector3d head_radii;                    // its half axes (x, y, z)
 };
 
 // Proportions of an average adult scaled to `height`; `width` scales lateral

@@ -43,7 +43,9 @@ void UpdateGroup(const OptionRegistry& registry, const nlohmann::json& j, const 
             prefix.empty() ? "the options" : fmt::format("option group '{}'", prefix),
             JsonDescribe(j));
   for (const auto& [name, value] : j.items()) {
-    const std::string key = prefix.empty() ? name : prefix + "." + name;
+    std::string key = prefix;
+    if (!key.empty()) key += '.';
+    key += name;
     if (const OptionEntry* e = registry.Find(key)) {
       if ((e->role == OptionRole::kPreset) == presets)
         e->set(value, fmt::format("{}: option '{}'", context, key));
@@ -64,7 +66,7 @@ nlohmann::json ValueFromText(const OptionEntry& e, const std::string& text,
     if (text == "false" || text == "0") return false;
     ThrowError(fmt::format("{} must be true or false, got '{}'", where, text));
   }
-  const nlohmann::json v = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  nlohmann::json v = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
   U4D_CHECK(!v.is_discarded() && v.is_number(), "{} must be a number ({}), got '{}'", where, e.type,
             text);
   return v;
