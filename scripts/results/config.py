@@ -8,43 +8,35 @@ prose names the sizes its steps ran at.
 import argparse
 import os
 
-# Full: the commands docs/*.md quote. Quick: the same benches on smaller
-# inputs where the bench takes sizes; benches with fixed sizes run as they are.
-QUICK = {
-    "joint": "--views 4 --width 320 --height 180 --working-width 320 --frames 3 --max-views 2",
-    "sparse": "2 2.0",
-    "keyframes": "32 8 4",
-    "depth": "1",
-    "mrf": "--benchmark_min_time=0.01",
-    "kernels": "--benchmark_min_time=0.01",
-    "phases": "--views 4 --width 320 --height 180 --working-width 320 --frames 3 --max-views 2",
-    "render": "--benchmark_min_time=0.01",
-    "scen": "--frames 3 --views 4 --width 320 --height 180",
-    "detector": "--frames 6 --views 4 --width 480 --height 270",
-    "recon": "--views 8 --width 320 --height 180 --working-width 320 --frames 3 --methods full,P_P",
-    "abl_run": "--working-width 160",
-    "speed_views": "4", "speed_sizes": "320x180", "speed_frames": "3",
-    "length_frames": "10 30",
-    "scale_views": "4 8 16", "scale_view_size": "160x90", "scale_frames": "2",
-    "scale_sizes": "160x90 640x360",
-}
-FULL = {
-    "joint": "--frames 3 --max-views 4",
-    "sparse": "10 2.0",
-    "keyframes": "64 8 4",
-    "depth": "1",
-    "mrf": "",
-    "kernels": "",
-    "phases": "--max-views 1",
-    "render": "",
-    "scen": "--frames 10 --views 8 --width 480 --height 270",
-    "detector": "--views 8 --width 960 --height 540",  # the preset's 50 frames
-    "recon": "--views 8 --frames 3 --methods full,P_M,P_P,P_S",
-    "abl_run": "--frames 4",
-    "speed_views": "4 8", "speed_sizes": "480x270", "speed_frames": "4",
-    "length_frames": "30 100 300",
-    "scale_views": "4 8 16", "scale_view_size": "480x270", "scale_frames": "2",
-    "scale_sizes": "480x270 960x540 1920x1080",
+# Per option: (quick, full). Full: the commands docs/*.md quote. Quick: the same
+# benches on smaller inputs where the bench takes sizes; benches with fixed
+# sizes run as they are.
+SIZES = {
+    "joint": ("--views 4 --width 320 --height 180 --working-width 320 --frames 3 --max-views 2",
+              "--frames 3 --max-views 4"),
+    "sparse": ("2 2.0", "10 2.0"),
+    "keyframes": ("32 8 4", "64 8 4"),
+    "depth": ("1", "1"),
+    "mrf": ("--benchmark_min_time=0.01", ""),
+    "kernels": ("--benchmark_min_time=0.01", ""),
+    "phases": ("--views 4 --width 320 --height 180 --working-width 320 --frames 3 --max-views 2",
+               "--max-views 1"),
+    "render": ("--benchmark_min_time=0.01", ""),
+    "scen": ("--frames 3 --views 4 --width 320 --height 180",
+             "--frames 10 --views 8 --width 480 --height 270"),
+    "detector": ("--frames 6 --views 4 --width 480 --height 270",
+                 "--views 8 --width 960 --height 540"),  # full: the preset's 50 frames
+    "recon": ("--views 8 --width 320 --height 180 --working-width 320 --frames 3 --methods full,P_P",
+              "--views 8 --frames 3 --methods full,P_M,P_P,P_S"),
+    "abl_run": ("--working-width 160", "--frames 4"),
+    "speed_views": ("4", "4 8"),
+    "speed_sizes": ("320x180", "480x270"),
+    "speed_frames": ("3", "4"),
+    "length_frames": ("10 30", "30 100 300"),
+    "scale_views": ("4 8 16", "4 8 16"),
+    "scale_view_size": ("160x90", "480x270"),
+    "scale_frames": ("2", "2"),
+    "scale_sizes": ("160x90 640x360", "480x270 960x540 1920x1080"),
 }
 # Scenarios: walk is the handshake script's first frames, the two walking
 # towards each other (centimetres per frame); the others are centred on the
@@ -97,7 +89,7 @@ def scale_points(c):
 def config(argv, env=None):
     env = os.environ if env is None else env
     a = parse(argv)
-    c = dict(QUICK if a.quick else FULL)
+    c = {k: v[0 if a.quick else 1] for k, v in SIZES.items()}
     c.update(mode="quick" if a.quick else "full", only=a.only, out=a.out, update=a.update,
              keep=a.keep or bool(a.reuse), reuse=a.reuse, build=env.get("BUILD", "build"))
     for name in SIZE_OPTIONS:
