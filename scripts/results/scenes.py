@@ -4,7 +4,7 @@ import os
 
 from config import DETECTOR_SEEDS
 from summary import row
-from values import drift, get, jround, mm, num, peak_mb, per_frame, r3, stage_sum, synth_fps
+from values import drift, get, mm, num, peak_mb, per_frame, r3, rounded, stage_sum, synth_fps
 
 
 def accuracy(e):
@@ -20,14 +20,6 @@ def se_baselines(e):
 
 def surface(e):
     return [r3(get(e, "projection_error.value")), mm(get(e, "meshes.chamfer_m")), drift(e)]
-
-
-def spf(run):
-    """Seconds per frame, "" when run.json is missing or has no segments."""
-    try:
-        return per_frame(run) if run else ""
-    except (TypeError, ZeroDivisionError, KeyError):
-        return ""
 
 
 def provenances(w, sids, suffixes):
@@ -70,7 +62,7 @@ def scenarios(ctx, w, text):
             continue
         init = r3(get(w.json(sid + ".initial.json"), "instances.mean_instance_iou"))
         a = accuracy(e)
-        s += row(name, init, *a, *se_baselines(e), *surface(e), spf(w.json(sid + ".run.json")))
+        s += row(name, init, *a, *se_baselines(e), *surface(e), per_frame(w.json(sid + ".run.json")))
     s += "\n" + text["identity"]
     for sid in ctx["scenarios_ids"]:
         e = w.json(sid + ".eval.json")
@@ -92,7 +84,7 @@ def ablations(ctx, w, text):
         if e is None:
             s += row(sid[len("abl_"):], "(no eval.json: the run failed)", *[None] * 7)
             continue
-        s += row(sid[len("abl_"):], *accuracy(e), *surface(e), spf(w.json(sid + ".run.json")))
+        s += row(sid[len("abl_"):], *accuracy(e), *surface(e), per_frame(w.json(sid + ".run.json")))
     return s + "\n" + provenances(w, ctx["ablations_ids"], [""])
 
 
@@ -104,9 +96,9 @@ def speed_stages(ctx, w):
             s += row(cfg, "(no run.json: the run failed)", None, None, None)
             continue
         for st in run["stages"]:
-            s += row(cfg, st["name"], num(jround(st["seconds"] * 10) / 10),
-                     num(jround(st["peak_rss_mb"])), num(st.get("items")))
-        s += row(cfg, "**total**", num(jround(stage_sum(run) * 10) / 10), peak_mb(run), None)
+            s += row(cfg, num(st.get("name")), rounded(st.get("seconds"), 10),
+                     rounded(st.get("peak_rss_mb"), 1), num(st.get("items")))
+        s += row(cfg, "**total**", rounded(stage_sum(run), 10), peak_mb(run), None)
     return s + "\n"
 
 
@@ -140,7 +132,7 @@ def scaling_row(run, v, size):
     n = stage_sum(run, "segments", "items")
 
     def per(x):
-        return num(jround((x or 0) / n * 100) / 100)
+        return rounded(x or 0, 100, n)
 
     def part(name):
         if "segment_parts" not in run:
@@ -174,8 +166,8 @@ def length(ctx, w, text):
             s += row(n, "(no run.json: the run failed)", None, None, None)
             continue
         seg = stage_sum(run, "segments")
-        s += row(n, num(jround(seg)), num(jround(seg / float(n) * 100) / 100),
-                 num(jround(stage_sum(run))), peak_mb(run))
+        s += row(n, rounded(seg, 1), rounded(None if seg is None else seg / float(n), 100),
+                 rounded(stage_sum(run), 1), peak_mb(run))
     return s + "\n" + w.provenance("length_synth") + provenances(w, ctx["length_ids"], [""])
 
 
@@ -190,7 +182,7 @@ def long_sequences(ctx, w, text):
         kf = w.json(sid + ".keyframes.json")
         run = w.json(sid + ".run.json")
         s += row(name, ctx["long_frames"], num(len(kf["keyframes"])) if kf else "", init,
-                 *accuracy(e), *se_baselines(e), *surface(e), spf(run),
+                 *accuracy(e), *se_baselines(e), *surface(e), per_frame(run),
                  peak_mb(run) if run else "")
     return s + "\n" + provenances(w, ctx["long_ids"], ["_synth", "", "_eval"])
 

@@ -1,6 +1,6 @@
 """The summary table of docs/results.md: headline numbers, each from a section."""
-from values import (drift, fusion_chamfer, gb_ms, get, md_cell, num, peak_mb, per_frame, r3,
-                    ratio, shelf_pcp, stage_sum, jround, tracks_precision)
+from values import (drift, fusion_chamfer, gb_ms, get, md_cell, peak_mb, per_frame, r3, ratio,
+                    rounded, shelf_pcp, stage_sum, tracks_precision)
 
 
 def row(*cells):
@@ -102,7 +102,7 @@ def run_rows(ctx, w):
                 sid[len("speed_"):], ctx["speed_frames"]), None, "%s, %s, %s s, %s MB" % (
                 r3(get(e, "instances.mean_instance_iou")),
                 r3(get(e, "silhouette_overlap_error.value")),
-                num(jround(stage_sum(run))), peak_mb(run)), "Speed")
+                rounded(stage_sum(run), 1), peak_mb(run)), "Speed")
     goal = ctx["scale_goal"]
     run = w.json("scale_%sv_%s.run.json" % tuple(goal.split(" ", 1))) if goal else None
     if run:

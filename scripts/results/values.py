@@ -23,9 +23,9 @@ def num(x):
     return str(x) if isinstance(x, (bool, str)) else repr(x)
 
 
-def rounded(x, scale):
-    """x rounded to 1/scale, printed; "" when missing."""
-    return "" if x is None else num(jround(x * scale) / scale)
+def rounded(x, scale, per=1):
+    """x / per rounded to 1/scale, printed; "" when missing."""
+    return "" if x is None or not per else num(jround(x / per * scale) / scale)
 
 
 def r3(x):
@@ -56,17 +56,24 @@ def drift(e):
 
 def stage_sum(run, name=None, field="seconds"):
     """The sum of field over run.json's stages (named name); None if none."""
-    vals = [s.get(field) for s in run.get("stages", []) if name is None or s.get("name") == name]
+    vals = [s.get(field) for s in (run or {}).get("stages", [])
+            if (name is None or s.get("name") == name) and s.get(field) is not None]
     return sum(vals) if vals else None
 
 
 def peak_mb(run):
-    return num(jround(max(s["peak_rss_mb"] for s in run["stages"])))
+    """The peak resident memory over run.json's stages, MB; "" if none."""
+    vals = [s["peak_rss_mb"] for s in (run or {}).get("stages", [])
+            if s.get("peak_rss_mb") is not None]
+    return num(jround(max(vals))) if vals else ""
 
 
 def per_frame(run, scale=10):
     """All stages' seconds per solved frame (segments' items), rounded to 1/scale."""
-    return num(jround(stage_sum(run) / stage_sum(run, "segments", "items") * scale) / scale)
+    try:
+        return num(jround(stage_sum(run) / stage_sum(run, "segments", "items") * scale) / scale)
+    except (TypeError, ZeroDivisionError):
+        return ""
 
 
 def load(path):
