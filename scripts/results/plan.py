@@ -3,7 +3,8 @@
 plan(c, work) yields actions: ("run", id, argv) runs a step whose output the
 renderer reads as <work>/<id>.out and <work>/<id>.step.json; ("copy", src,
 dst) keeps a file of a scene (when it exists) before ("rm", path) removes the
-capture. Google Benchmark benches also write <work>/<id>.gbench.json.
+capture. The Google Benchmark benches (mrf, kernels, tracks, synth) also
+write their results as <work>/<id>.gbench.json.
 """
 import os
 
@@ -38,17 +39,17 @@ def _bench_steps(c, w, b):
     if want("sparse"):
         yield ("run", "sparse", [b + "sparse_bench"] + a["sparse"])
     if want("tracks"):
-        yield ("run", "tracks", [b + "tracks_bench"])
+        yield gbench("tracks", "tracks_bench", [])
     if want("keyframes"):
         yield ("run", "keyframes", [b + "keyframes_bench"] + a["keyframes"])
     if want("mrf"):
         yield gbench("mrf", "mrf_bench", a["mrf"])
     if want("kernels"):
-        yield ("run", "kernels", [b + "kernels_bench"] + a["kernels"])
+        yield gbench("kernels", "kernels_bench", a["kernels"])
         yield ("run", "joint_phases", [b + "joint_phases_bench"] + a["phases"])
     if want("synth"):
-        yield ("run", "synth_render", [b + "synth_render_bench"] + a["render"])
-        yield ("run", "synth", [b + "synth_bench"])
+        yield gbench("synth_render", "synth_render_bench", a["render"])
+        yield gbench("synth", "synth_bench", [])
 
 
 def _scene_steps(c, w, u4d):

@@ -1,6 +1,6 @@
 """The summary table of docs/results.md: headline numbers, each from a section."""
-from values import (drift, fusion_chamfer, gb_ms, get, md_cell, peak_mb, per_frame, r3, ratio,
-                    rounded, shelf_pcp, stage_sum, tracks_precision)
+from values import (drift, fusion_chamfer, gb_counter, gb_ms, get, md_cell, peak_mb, per_frame, r3, ratio,
+                    rounded, shelf_pcp, stage_sum)
 
 
 def row(*cells):
@@ -81,7 +81,7 @@ def module_rows(w):
                  "3D pose on Shelf")
     if w.has("tracks"):
         s += row("temporal tracks: share of steps within 2 px of GT flow", None,
-                 tracks_precision(w.out("tracks")), "Temporal tracks")
+                 gb_counter(w.json("tracks.gbench.json"), "precision"), "Temporal tracks")
     if w.has("mrf"):
         g = w.json("mrf.gbench.json")
         for what, name in [("max-flow 480x270 4-connected, ms", "BM_MaxFlow/%d/4"),

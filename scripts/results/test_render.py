@@ -111,7 +111,9 @@ class ValuesTest(unittest.TestCase):
         self.assertEqual(values.fusion_chamfer(
             "8x480x270 person 1: chamfer 7.4 mm\n4x480x270 person 1: chamfer 9 mm\n"
             "8x480x270 person 2: chamfer 8.1 mm\n"), "7.4/8.1")
-        self.assertEqual(values.tracks_precision("tracks=10 precision=0.98123 t=1"), "0.981")
+        tracks = {"benchmarks": [{"name": "BM_TemporalTracks/12/8", "precision": 0.98151}]}
+        self.assertEqual(values.gb_counter(tracks, "precision"), "0.982")
+        self.assertEqual(values.gb_counter(tracks, "recall"), "")
         self.assertEqual(values.synth_fps("wrote 6 frames (12.5 frames/s; 3 s)\n"), "12.5")
 
 
@@ -190,12 +192,18 @@ class DocumentTest(Fixture):
         self.assertIn("| S_e of the GT masks carried by the flow, two people walking (Silhouette "
                       "overlap error) | DeepFlow 0.05, DIS 0.061, Farneback  | ours 0.042 |", doc)
 
-    def test_graph_cuts_summary_from_google_benchmark_json(self):
+    def test_graph_cuts_and_tracks_summary_from_google_benchmark_json(self):
+        self.step("tracks", "precision=0.9 on the console\n")
+        self.put("tracks.gbench.json", {"benchmarks": [{"name": "BM_TemporalTracks/12/8",
+                                                         "precision": 0.98151}]})
         self.step("mrf", "console table\n")
         self.put("mrf.gbench.json", {"benchmarks": [
             {"name": "BM_MaxFlow/0/4", "real_time": 21.3, "time_unit": "ms"},
             {"name": "BM_MaxFlow/1/4", "real_time": 94.1, "time_unit": "ms"}]})
-        doc = self.document(["--quick", "--only", "mrf"])
+        doc = self.document(["--quick", "--only", "mrf,tracks"])
+        self.assertIn("| temporal tracks: share of steps within 2 px of GT flow | | 0.982 | "
+                      "Temporal tracks |\n", doc)
+        self.assertIn("```text\nprecision=0.9 on the console\n```\n", doc)
         self.assertIn("| max-flow 480x270 4-connected, ms | Boost BK 94.1 | own BK 21.3 (4.4x) | "
                       "Graph cuts |\n", doc)
         self.assertIn("| alpha-expansion 480x270, 32 labels, ms | Boost BK  | own BK  (x) |", doc)

@@ -1,7 +1,7 @@
 """Numbers out of the steps' outputs, formatted as docs/results.md prints them.
 
 The benches print Markdown tables (md_table, md_cell) or counters (the text
-scrapers below); Google Benchmark benches write JSON (gb_ms); `u4d run`,
+scrapers below); Google Benchmark benches write JSON (gb_ms, gb_counter); `u4d run`,
 `u4d eval` and `u4d consistency` write JSON (get, r3, mm, ...). Numbers are
 rounded half away from zero and printed shortest, integers without a point.
 """
@@ -146,9 +146,12 @@ def shelf_pcp(text):
     return ""
 
 
-def tracks_precision(text):
-    m = re.search(r"precision=([0-9.]*)", text)
-    return "%.3f" % float(m.group(1) or 0) if m else ""
+def gb_counter(gbench, counter):
+    """The counter of the first Google Benchmark run that has it, "%.3f"; "" if none."""
+    for b in (gbench or {}).get("benchmarks", []):
+        if counter in b:
+            return "%.3f" % b[counter]
+    return ""
 
 
 def synth_fps(text):
