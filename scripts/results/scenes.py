@@ -43,10 +43,12 @@ def detector(w, text):
                  "%s / %s / %s" % tuple(num(i.get(k)) for k in ("missed", "false_positives", "merged")),
                  synth_fps(w.out("detector_synth_" + seed)))
     if found:
-        merged = sum(i["merged_touching_images"] for i in found)
-        touch = sum(i["touching_images"] for i in found)
-        s += row("mean", r3(sum(i["mean_instance_iou"] for i in found) / len(found)),
-                 r3(sum(i["mean_class_iou"] for i in found) / len(found)),
+        def total(key):
+            return sum(i.get(key) or 0 for i in found)
+
+        merged, touch = total("merged_touching_images"), total("touching_images")
+        s += row("mean", r3(total("mean_instance_iou") / len(found)),
+                 r3(total("mean_class_iou") / len(found)),
                  "%s (%s of %s)" % (r3(merged / touch) if touch else "", num(merged), num(touch)),
                  None, None)
     return s + "\n" + "".join(w.provenance(p + seed) for seed in DETECTOR_SEEDS
@@ -61,8 +63,7 @@ def scenarios(ctx, w, text):
             s += row(name, "(no eval.json: the run failed)", *[None] * 11)
             continue
         init = r3(get(w.json(sid + ".initial.json"), "instances.mean_instance_iou"))
-        a = accuracy(e)
-        s += row(name, init, *a, *se_baselines(e), *surface(e), per_frame(w.json(sid + ".run.json")))
+        s += row(name, init, *accuracy(e), *se_baselines(e), *surface(e), per_frame(w.json(sid + ".run.json")))
     s += "\n" + text["identity"]
     for sid in ctx["scenarios_ids"]:
         e = w.json(sid + ".eval.json")
@@ -95,7 +96,7 @@ def speed_stages(ctx, w):
         if run is None:
             s += row(cfg, "(no run.json: the run failed)", None, None, None)
             continue
-        for st in run["stages"]:
+        for st in run.get("stages", []):
             s += row(cfg, num(st.get("name")), rounded(st.get("seconds"), 10),
                      rounded(st.get("peak_rss_mb"), 1), num(st.get("items")))
         s += row(cfg, "**total**", rounded(stage_sum(run), 10), peak_mb(run), None)
@@ -166,7 +167,7 @@ def length(ctx, w, text):
             s += row(n, "(no run.json: the run failed)", None, None, None)
             continue
         seg = stage_sum(run, "segments")
-        s += row(n, rounded(seg, 1), rounded(None if seg is None else seg / float(n), 100),
+        s += row(n, rounded(seg, 1), rounded(seg, 100, float(n)),
                  rounded(stage_sum(run), 1), peak_mb(run))
     return s + "\n" + w.provenance("length_synth") + provenances(w, ctx["length_ids"], [""])
 
@@ -181,9 +182,8 @@ def long_sequences(ctx, w, text):
         init = r3(get(w.json(sid + ".initial.json"), "instances.mean_instance_iou"))
         kf = w.json(sid + ".keyframes.json")
         run = w.json(sid + ".run.json")
-        s += row(name, ctx["long_frames"], num(len(kf["keyframes"])) if kf else "", init,
-                 *accuracy(e), *se_baselines(e), *surface(e), per_frame(run),
-                 peak_mb(run) if run else "")
+        s += row(name, ctx["long_frames"], num(len(kf.get("keyframes") or [])) if kf else "", init,
+                 *accuracy(e), *se_baselines(e), *surface(e), per_frame(run), peak_mb(run))
     return s + "\n" + provenances(w, ctx["long_ids"], ["_synth", "", "_eval"])
 
 
