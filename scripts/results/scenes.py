@@ -64,7 +64,7 @@ def scenarios(ctx, w, text):
             continue
         init = r3(get(w.json(sid + ".initial.json"), "instances.mean_instance_iou"))
         s += row(name, init, *accuracy(e), *se_baselines(e), *surface(e), per_frame(w.json(sid + ".run.json")))
-    s += "\n" + text["identity"]
+    s += text["identity"]  # it opens with a blank line
     for sid in ctx["scenarios_ids"]:
         e = w.json(sid + ".eval.json")
         if e is None:

@@ -189,6 +189,8 @@ class DocumentTest(Fixture):
                       "13.9 (16.1) | 3.9 |\n", doc)
         self.assertIn("| handshake | (no eval.json: the run failed) | | | | | | | | | | | |\n", doc)
         self.assertIn("| walk |  |  | null / null | null / null | 0.5 (2 of 4) |\n", doc)
+        self.assertIn("| realistic-moving | (no eval.json: the run failed) | | | | | | | | | | | |\n"
+                      "\nIdentity (docs/metrics.md", doc)
         self.assertIn("| S_e of the GT masks carried by the flow, two people walking (Silhouette "
                       "overlap error) | DeepFlow 0.05, DIS 0.061, Farneback  | ours 0.042 |", doc)
 
