@@ -26,7 +26,8 @@ SIZES = {
              "--frames 10 --views 8 --width 480 --height 270"),
     "detector": ("--frames 6 --views 4 --width 480 --height 270",
                  "--views 8 --width 960 --height 540"),  # full: the preset's 50 frames
-    "recon": ("--views 8 --width 320 --height 180 --working-width 320 --frames 3 --methods full,P_P",
+    "recon": ("--views 8 --width 320 --height 180 --working-width 320 --frames 3"
+              " --methods full,P_P",
               "--views 8 --frames 3 --methods full,P_M,P_P,P_S"),
     "abl_run": ("--working-width 160", "--frames 4"),
     "speed_views": ("4", "4 8"),

@@ -57,21 +57,24 @@ def _scene_steps(c, w, u4d):
     if c["want"]("detector"):
         for seed in DETECTOR_SEEDS:
             cap = "%s/detector_%s" % (w, seed)
-            yield ("run", "detector_synth_" + seed, [u4d, "synth", "--preset", "realistic", "--seed",
-                                                     seed] + c["detector"].split() + ["-o", cap])
+            yield ("run", "detector_synth_" + seed,
+                   [u4d, "synth", "--preset", "realistic", "--seed", seed]
+                   + c["detector"].split() + ["-o", cap])
             yield ("run", "detector_" + seed,
                    [u4d, "eval", cap, "--initial", "-o", "%s/detector_%s.json" % (w, seed)])
             yield ("rm", cap)
     for sid in c["speed_ids"]:
         v, size = sid[len("speed_"):].split("v_")
+        width, height = size.split("x")
         cap = "%s/%s" % (w, sid)
         yield ("run", sid + "_synth", [u4d, "synth", "--preset", "handshake", "--frames",
-                                       c["speed_frames"], "--views", v, "--width",
-                                       size.split("x")[0], "--height", size.split("x")[1], "-o", cap])
+                                       c["speed_frames"], "--views", v, "--width", width,
+                                       "--height", height, "-o", cap])
         yield ("run", sid, [u4d, "run", cap, "-o", cap + "/scene", "--no-progress"])
         yield from _keep(cap + "/scene", w, sid, ["run", "eval"])
-        yield ("run", sid + "_consistency", [u4d, "consistency", cap + "/scene", "--baselines",
-                                             SE_BASELINES, "-o", "%s/%s.consistency.json" % (w, sid)])
+        yield ("run", sid + "_consistency",
+               [u4d, "consistency", cap + "/scene", "--baselines", SE_BASELINES,
+                "-o", "%s/%s.consistency.json" % (w, sid)])
         yield ("rm", cap)
     if c["length_ids"]:
         frames = str(max(int(n) for n in c["length_frames"].split()))
@@ -111,7 +114,8 @@ def _scenario_steps(c, w, u4d):
         yield ("run", sid + "_synth", [u4d, "synth"] + scen_synth_args(name) + c["scen"].split()
                + ["-o", cap])
         if scen:
-            yield ("run", sid, [u4d, "run", cap, "-o", cap + "/scene", "--no-eval", "--no-progress"])
+            yield ("run", sid,
+                   [u4d, "run", cap, "-o", cap + "/scene", "--no-eval", "--no-progress"])
             yield from _keep(cap + "/scene", w, sid, ["run"])
             yield from _eval_steps(u4d, cap, w, sid)
         if name == "walk":

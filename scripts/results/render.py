@@ -72,7 +72,8 @@ class Work:
             m.get("started", ""), m.get("wall", ""), m.get("rss", ""), m.get("load", ""))
         if str(m.get("rc", "")) != "0":
             err = self.text(sid + ".err").splitlines(keepends=True)[-20:]
-            s += "\n**FAILED (exit status %s).** Last lines of stderr:\n\n```text\n" % m.get("rc", "")
+            s += "\n**FAILED (exit status %s).** Last lines of stderr:\n\n" % m.get("rc", "")
+            s += "```text\n"
             s += "".join(err) + "```\n"
         return s + "\n"
 
@@ -82,7 +83,8 @@ def machine():
         cpu = next((l.split(":", 1)[1].strip() for l in f if l.startswith("model name")), "")
     with open("/proc/meminfo") as f:
         kb = next(int(l.split()[1]) for l in f if l.startswith("MemTotal"))
-    return {"cores": len(os.sched_getaffinity(0)), "cpu": cpu, "memory": "%.0f GiB" % (kb / 1048576)}
+    return {"cores": len(os.sched_getaffinity(0)), "cpu": cpu,
+            "memory": "%.0f GiB" % (kb / 1048576)}
 
 
 def build_type(build):

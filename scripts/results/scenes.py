@@ -40,7 +40,7 @@ def detector(w, text):
         i = d.get("instances") or {}
         found.append(i)
         s += row(seed, r3(i.get("mean_instance_iou")), r3(i.get("mean_class_iou")), touching(i),
-                 "%s / %s / %s" % tuple(num(i.get(k)) for k in ("missed", "false_positives", "merged")),
+                 " / ".join(num(i.get(k)) for k in ("missed", "false_positives", "merged")),
                  synth_fps(w.out("detector_synth_" + seed)))
     if found:
         def total(key):
@@ -63,17 +63,21 @@ def scenarios(ctx, w, text):
             s += row(name, "(no eval.json: the run failed)", *[None] * 11)
             continue
         init = r3(get(w.json(sid + ".initial.json"), "instances.mean_instance_iou"))
-        s += row(name, init, *accuracy(e), *se_baselines(e), *surface(e), per_frame(w.json(sid + ".run.json")))
+        s += row(name, init, *accuracy(e), *se_baselines(e), *surface(e),
+                 per_frame(w.json(sid + ".run.json")))
     s += text["identity"]  # it opens with a blank line
     for sid in ctx["scenarios_ids"]:
         e = w.json(sid + ".eval.json")
         if e is None:
             continue
         init, d = w.json(sid + ".initial.json") or {}, e.get("identity") or {}
+        def pair(*keys):
+            return " / ".join(num(d.get(k)) for k in keys)
+
         s += row(sid[len("scen_"):], r3(get(init, "identity.mean_ids_per_person")),
                  r3(d.get("mean_ids_per_person")),
-                 "%s / %s" % (num(d.get("switches_in_view")), num(d.get("cross_view_disagreements"))),
-                 "%s / %s" % (num(d.get("no_mesh_frames")), num(d.get("visible_frames"))),
+                 pair("switches_in_view", "cross_view_disagreements"),
+                 pair("no_mesh_frames", "visible_frames"),
                  touching(init.get("instances") or {}) if init else "")
     return s + "\n" + provenances(w, ctx["scenarios_ids"], ["_synth", "", "_eval"])
 

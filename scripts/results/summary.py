@@ -1,6 +1,6 @@
 """The summary table of docs/results.md: headline numbers, each from a section."""
-from values import (drift, fusion_chamfer, gb_counter, gb_ms, get, md_cell, peak_mb, per_frame, r3, ratio,
-                    rounded, shelf_pcp, stage_sum)
+from values import (drift, fusion_chamfer, gb_counter, gb_ms, get, md_cell, peak_mb, per_frame,
+                    r3, ratio, rounded, shelf_pcp, stage_sum)
 
 
 def row(*cells):

@@ -63,7 +63,8 @@ class Fixture(unittest.TestCase):
 
     def step(self, sid, out="", rc=0, err=""):
         self.put(sid + ".step.json", {
-            "cmd": "build/bench/x --out %s/x.json" % self.work, "started": "2026-12-03 10:00:00 UTC",
+            "cmd": "build/bench/x --out %s/x.json" % self.work,
+            "started": "2026-12-03 10:00:00 UTC",
             "load": "1.00 0.50 0.25", "wall": "12.3", "rss": "233", "rc": rc})
         self.put(sid + ".out", out)
         self.put(sid + ".err", err)
@@ -129,7 +130,8 @@ class ProvenanceTest(Fixture):
         err = "".join("line %d\n" % i for i in range(30))
         self.step("sparse", "partial\n", rc=3, err=err)
         doc = self.document(["--quick", "--only", "sparse"])
-        self.assertIn("**FAILED (exit status 3).** Last lines of stderr:\n\n```text\nline 10\n", doc)
+        self.assertIn("**FAILED (exit status 3).** Last lines of stderr:\n\n```text\nline 10\n",
+                      doc)
         self.assertIn("line 29\n```\n", doc)
         self.assertNotIn("line 9\n", doc)
         self.assertIn("## Sparse multi-view points\n", doc)
@@ -153,7 +155,8 @@ class DocumentTest(Fixture):
     def test_joint_tables_and_summary_cells(self):
         self.step("joint", JOINT_OUT)
         doc = self.document(["--quick", "--only", "seg,depth,flow"])
-        self.assertIn("| segmentation: mean instance IoU (Segmentation comparison) | initial 0.669, "
+        self.assertIn("| segmentation: mean instance IoU (Segmentation comparison) | "
+                      "initial 0.669, "
                       "GrabCut 0.869 | full 0.969 | Segmentation |\n", doc)
         self.assertIn("| flow EPE on people, px (motion evaluation) | DIS 0.309, DeepFlow 0.321, "
                       "Farneback 0.335 | full 0.217 | Flow |\n", doc)
@@ -172,7 +175,8 @@ class DocumentTest(Fixture):
         doc = self.document(["--quick", "--only", "speed"])
         self.assertIn("| 4v_320x180 | segments | 10.3 | 251 | 3 |\n", doc)
         self.assertIn("| 4v_320x180 | **total** | 11.8 | 251 | |\n", doc)
-        self.assertIn("| 4v_320x180 | 0.968 | 0.9 | 0.213 | 0.042 | 0.1 | 7.5 | 13.9 (16.1) |\n", doc)
+        self.assertIn("| 4v_320x180 | 0.968 | 0.9 | 0.213 | 0.042 | 0.1 | 7.5 | 13.9 (16.1) |\n",
+                      doc)
         self.assertIn("| 4v_320x180 | (no consistency.json) | | | | | | |\n", doc)
         self.assertIn("| `u4d run` 4v_320x180 x 3 frames: IoU, S_e, total s, peak MB | | "
                       "0.968, 0.042, 12 s, 251 MB | Speed |\n", doc)
@@ -189,7 +193,8 @@ class DocumentTest(Fixture):
                       "13.9 (16.1) | 3.9 |\n", doc)
         self.assertIn("| handshake | (no eval.json: the run failed) | | | | | | | | | | | |\n", doc)
         self.assertIn("| walk |  |  | null / null | null / null | 0.5 (2 of 4) |\n", doc)
-        self.assertIn("| realistic-moving | (no eval.json: the run failed) | | | | | | | | | | | |\n"
+        self.assertIn("| realistic-moving | (no eval.json: the run failed)"
+                      " | | | | | | | | | | | |\n"
                       "\nIdentity (docs/metrics.md", doc)
         self.assertIn("| S_e of the GT masks carried by the flow, two people walking (Silhouette "
                       "overlap error) | DeepFlow 0.05, DIS 0.061, Farneback  | ours 0.042 |", doc)
@@ -212,7 +217,8 @@ class DocumentTest(Fixture):
 
 
 class UpdateTest(Fixture):
-    OLD = ("# Results\n\nheader\n\n## Summary\n\n| old summary |\n\n## Segmentation (x)\n\nold seg\n\n"
+    OLD = ("# Results\n\nheader\n\n## Summary\n\n| old summary |\n\n"
+           "## Segmentation (x)\n\nold seg\n\n"
            "## Flow (y)\n\nold flow\n\n## Not yet measured\n\n- nothing\n")
     NEW = ("# Results\n\nnew header\n\n## Summary\n\n| new summary |\n\n## Flow (y)\n\nnew flow\n\n"
            "## Sintel (z)\n\nnew sintel\n\n## Not yet measured\n\n- new list\n")
