@@ -2,6 +2,7 @@
 #include "u4d/pipeline/early_stages.h"
 
 #include <algorithm>
+#include <optional>
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
@@ -54,6 +55,22 @@ std::vector<InstanceMask> ReadGivenMasks(RunContext& c, int frame) {
                    c.cap.views[v].CameraAt(frame).height, png.string());
   }
   return masks;
+}
+
+// Given masks, no poses: per frame run, the people to start its ground
+// step from where they are the next frame's (PeopleFromTheNextFrame, each
+// shot on its own).
+std::vector<std::optional<PeoplePositions>> NextFramePeople(RunContext& c) {
+  std::vector<std::optional<PeoplePositions>> hints;
+  for (const auto& [first, last] : c.Shots()) {
+    const auto shot = PeopleFromTheNextFrame(last - first, [&](int k, PeoplePositions start) {
+      const int f = first + k;
+      GroundPeopleFromDetections(c.Cameras(f), IdImages(ReadGivenMasks(c, f)), c.o.init, &start);
+      return start;
+    });
+    hints.insert(hints.end(), shot.begin(), shot.end());
+  }
+  return hints;
 }
 
 }  // namespace
@@ -121,6 +138,13 @@ int ComputeInitialObjects(RunContext& c, const std::vector<std::vector<Pose3d>>&
   linker.options = c.o.link;
   for (const auto& frame : poses)
     for (const Pose3d& p : frame) linker.next_id = std::max(linker.next_id, p.person_id + 1);
+  // The ground-plane step (init.h step 6) names people alike in every
+  // view: unsupervised masks come from it, given masks go through it.
+  const bool ground = UsesGroundOccupancy(c.o.init, c.NumViews());
+  const bool with_poses = c.poses != PoseSource::kNone;
+  const bool given_on_ground = c.masks == MaskSource::kGiven && !with_poses && ground;
+  std::vector<std::optional<PeoplePositions>> next_people(c.NumFrames());
+  if (given_on_ground) next_people = NextFramePeople(c);
   std::vector<Eigen::Vector3d> ground_people;  // the previous frame's, for given masks
   std::vector<int> empty_frames;
   Progress progress("initial", c.NumFrames(), c.o.progress);
@@ -130,19 +154,15 @@ int ComputeInitialObjects(RunContext& c, const std::vector<std::vector<Pose3d>>&
       linker.tracks.clear();
       ground_people.clear();
     }
+    if (next_people[k]) ground_people = *next_people[k];
     const std::vector<Camera> cams = c.Cameras(f);
     const std::vector<cv::Mat> images = ReadViews(c, f);
-    const bool with_poses = c.poses != PoseSource::kNone;
-    // The ground-plane step (init.h step 6) names people alike in every
-    // view: unsupervised masks come from it, given masks go through it.
-    const bool ground = UsesGroundOccupancy(c.o.init, static_cast<int>(cams.size()));
     const std::vector<InstanceMask> given =
         c.masks == MaskSource::kGiven ? ReadGivenMasks(c, f) : std::vector<InstanceMask>();
     std::vector<cv::Mat> masks = IdImages(given);
     if (c.masks == MaskSource::kUnsupervised)
       masks = UnsupervisedInstanceMasks(cams, images, backgrounds, c.o.init, keys);
-    if (c.masks == MaskSource::kGiven && !with_poses && ground)
-      masks = GroundPeopleFromDetections(cams, masks, c.o.init, &ground_people);
+    if (given_on_ground) masks = GroundPeopleFromDetections(cams, masks, c.o.init, &ground_people);
     // With poses, instances that are not people become objects without a pose.
     FrameObjects objects =
         !with_poses

@@ -159,6 +159,22 @@ std::vector<cv::Mat> GroundPeopleFromDetections(const std::vector<Camera>& camer
   return named;
 }
 
+std::vector<std::optional<PeoplePositions>> PeopleFromTheNextFrame(
+    int num_frames, const std::function<PeoplePositions(int, PeoplePositions)>& ground_step) {
+  std::vector<PeoplePositions> found(num_frames);
+  for (int k = 0; k < num_frames; ++k)
+    found[k] = ground_step(k, k > 0 ? found[k - 1] : PeoplePositions());
+  std::vector<std::optional<PeoplePositions>> hints(num_frames);
+  for (int k = num_frames - 2; k >= 0; --k) {
+    if (found[k].size() >= found[k + 1].size()) continue;
+    PeoplePositions again = ground_step(k, found[k + 1]);
+    if (again.size() <= found[k].size()) continue;
+    hints[k] = found[k + 1];
+    found[k] = std::move(again);
+  }
+  return hints;
+}
+
 FrameObjects ObjectsFromPoses(const std::vector<Camera>& cameras, const std::vector<cv::Mat>& masks,
                               const std::vector<Pose3d>& poses, const FrameSetupOptions& options) {
   U4D_CHECK(cameras.size() == masks.size(), "ObjectsFromPoses: {} cameras but {} masks",

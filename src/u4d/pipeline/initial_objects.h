@@ -37,7 +37,9 @@
 //  "classes": {"<id>": {"<class>": votes}}} ("classes" may be absent).
 #pragma once
 
+#include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -101,6 +103,20 @@ std::vector<cv::Mat> GroundPeopleFromDetections(const std::vector<Camera>& camer
                                                 const std::vector<cv::Mat>& masks,
                                                 const InitOptions& options,
                                                 std::vector<Eigen::Vector3d>* people);
+
+// The ground step (GroundPeopleFromDetections) through one shot of
+// `num_frames` frames, forwards and then backwards in time. `ground_step(k,
+// start)` runs it on frame k from the people `start` (the previous frame's,
+// empty at the first) and returns the people found. Forwards each frame
+// starts from the previous one's result; backwards, a frame with fewer
+// people than the next one runs again from the next frame's people and
+// keeps that result when it finds more (a detector that merges two people
+// who touch at the start of a shot, where no earlier frame holds them
+// apart). Returns per frame the next frame's people where that run found
+// more, else nullopt (start from the previous frame's, as forwards).
+using PeoplePositions = std::vector<Eigen::Vector3d>;
+std::vector<std::optional<PeoplePositions>> PeopleFromTheNextFrame(
+    int num_frames, const std::function<PeoplePositions(int, PeoplePositions)>& ground_step);
 
 // Step 6 drops the pixels of an instance that lie far from every ray meeting
 // a person (clutter in the unsupervised masks; a hand or a foot the
