@@ -62,8 +62,9 @@ std::vector<InstanceMask> ReadGivenMasks(RunContext& c, int frame) {
 // shot on its own).
 std::vector<std::optional<PeoplePositions>> NextFramePeople(RunContext& c) {
   std::vector<std::optional<PeoplePositions>> hints;
-  for (const auto& [first, last] : c.Shots()) {
-    const auto shot = PeopleFromTheNextFrame(last - first, [&](int k, PeoplePositions start) {
+  for (const auto& [shot_first, shot_last] : c.Shots()) {
+    const int first = shot_first;  // a variable, not a binding: lambdas capture it (C++17)
+    const auto shot = PeopleFromTheNextFrame(shot_last - first, [&](int k, PeoplePositions start) {
       const int f = first + k;
       GroundPeopleFromDetections(c.Cameras(f), IdImages(ReadGivenMasks(c, f)), c.o.init, &start);
       return start;
