@@ -4,7 +4,10 @@ plan(c, work) yields actions: ("run", id, argv) runs a step whose output the
 renderer reads as <work>/<id>.out and <work>/<id>.step.json; ("copy", src,
 dst) keeps a file of a scene (when it exists) before ("rm", path) removes the
 capture. The Google Benchmark benches (mrf, kernels, tracks, synth) also
-write their results as <work>/<id>.gbench.json.
+write their results as <work>/<id>.gbench.json, the printf benches whose
+tables the renderer reads (joint_bench, middlebury_bench, sintel_bench,
+fusion_bench, shelf_pose_bench, joint_phases_bench) as <work>/<id>.json
+(--json).
 """
 import os
 
@@ -22,20 +25,24 @@ def _bench_steps(c, w, b):
         return ("run", name, [b + bench] + args + [
             "--benchmark_out=%s/%s.gbench.json" % (w, name), "--benchmark_out_format=json"])
 
+    def tables(name, bench, args):
+        return ("run", name, [b + bench] + args + ["--json", "%s/%s.json" % (w, name)])
+
     if want("seg") or want("depth") or want("flow"):
-        yield ("run", "joint", [b + "joint_bench"] + a["joint"])
+        yield tables("joint", "joint_bench", a["joint"])
     if want("realistic"):
-        yield ("run", "joint_realistic", [b + "joint_bench", "--preset", "realistic"] + a["joint"])
+        yield tables("joint_realistic", "joint_bench", ["--preset", "realistic"] + a["joint"])
     if want("depth"):
         yield ("run", "depth_cost", [b + "depth_cost_bench"] + a["depth"])
-        yield ("run", "recon", [b + "joint_bench"] + a["recon"])
+        yield tables("recon", "joint_bench", a["recon"])
     for section, step, bench in [("flow", "flow_cost", "flow_cost_bench"),
                                  ("middlebury", "middlebury", "middlebury_bench"),
                                  ("sintel", "sintel", "sintel_bench"),
                                  ("fusion", "fusion", "fusion_bench"),
                                  ("pose", "shelf", "shelf_pose_bench")]:
         if want(section):
-            yield ("run", step, [b + bench])
+            json_out = step != "flow_cost"
+            yield tables(step, bench, []) if json_out else ("run", step, [b + bench])
     if want("sparse"):
         yield ("run", "sparse", [b + "sparse_bench"] + a["sparse"])
     if want("tracks"):
@@ -46,7 +53,7 @@ def _bench_steps(c, w, b):
         yield gbench("mrf", "mrf_bench", a["mrf"])
     if want("kernels"):
         yield gbench("kernels", "kernels_bench", a["kernels"])
-        yield ("run", "joint_phases", [b + "joint_phases_bench"] + a["phases"])
+        yield tables("joint_phases", "joint_phases_bench", a["phases"])
     if want("synth"):
         yield gbench("synth_render", "synth_render_bench", a["render"])
         yield gbench("synth", "synth_bench", [])

@@ -1,10 +1,10 @@
-"""The sections of docs/results.md on the benches of bench/ (their printed
-tables and outputs verbatim), in the document's order."""
+"""The sections of docs/results.md on the benches of bench/ (their tables, from
+the JSON they write with --json, and outputs verbatim), in the document's order."""
 from values import md_table
 
 
 def table(w, sid, heading):
-    return "".join(line + "\n" for line in md_table(w.out(sid), heading))
+    return "".join(line + "\n" for line in md_table(w.tables(sid), heading))
 
 
 def joint_section(w, heading):
