@@ -6,7 +6,7 @@
 // then, on the 480x270 frame, FuseObject per Poisson octree depth and
 // thread count (time, vertices, Chamfer against the GT mesh).
 // A plain executable that prints; run from a Release build:
-//   build/bench/fusion_bench
+//   build/bench/fusion_bench [--json FILE]
 #include <algorithm>
 #include <cstdio>
 

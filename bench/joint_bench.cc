@@ -12,7 +12,7 @@
 //   build/bench/joint_bench [--views 8] [--width 480] [--height 270] [--frames 4]
 //       [--start 128] [--preset handshake|meetup|realistic|realistic-moving] [--sparse 150]
 //       [--no-ablations] [--max-views N] [--methods full,P_M,...] [--weights '{"pose": 0.9}']
-//       [--force-merge] [--per-view] [--dump DIR]
+//       [--force-merge] [--per-view] [--dump DIR] [--json FILE]
 //       [the options of `u4d run`: --config FILE, --set KEY=VALUE and its named flags
 //        (pipeline/run_flags.h, docs/options.md), e.g. --working-width 480 --rounds 2
 //        --motion-candidates K; the joint and frame_setup options apply here]

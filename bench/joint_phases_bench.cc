@@ -9,6 +9,7 @@
 //   build/bench/joint_phases_bench [--views 8] [--width 480] [--height 270]
 //       [--frames 3] [--start 128] [--max-views N] [--repeats 1] [the options of `u4d run`:
 //       --config FILE, --set KEY=VALUE, its named flags such as --working-width 480]
+//       [--json FILE]
 // --repeats solves each view that many times (the phase times are averaged).
 #include <cstdio>
 #include <map>

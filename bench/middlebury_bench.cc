@@ -26,7 +26,7 @@
 // pixels with GT (unknown = bad, as Middlebury counts a missing value), the
 // density of the estimate there, and the mean absolute error on the pixels
 // with an estimate.
-//   build/bench/middlebury_bench [scene ...]
+//   build/bench/middlebury_bench [scene ...] [--json FILE]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

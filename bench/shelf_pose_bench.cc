@@ -1,7 +1,7 @@
 // Shelf multi-person 3D pose: per-actor, per-limb PCP (alpha 0.5) of the
 // pose module's pipeline (testing/shelf.h) against gt.txt, the literature's
 // protocol (each GT actor is matched to its nearest predicted person).
-// Usage: shelf_pose_bench [shelf_dir]   (default /work/shared/data/shelf_pose)
+// Usage: shelf_pose_bench [shelf_dir] [--json FILE]   (default /work/shared/data/shelf_pose)
 #include <cstdio>
 #include <map>
 #include <string>

@@ -37,7 +37,7 @@
 // ("noc"), share within 1 / 3 px (all), wall time, and the time relative to
 // DeepFlow in the same run (ours includes computing its proposals; -df also
 // DeepFlow's start).
-//   build/bench/sintel_bench [case ...]      (case = clean/easy etc.)
+//   build/bench/sintel_bench [case ...] [--json FILE]   (case = clean/easy etc.)
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>

@@ -4,10 +4,8 @@ plan(c, work) yields actions: ("run", id, argv) runs a step whose output the
 renderer reads as <work>/<id>.out and <work>/<id>.step.json; ("copy", src,
 dst) keeps a file of a scene (when it exists) before ("rm", path) removes the
 capture. The Google Benchmark benches (mrf, kernels, tracks, synth) also
-write their results as <work>/<id>.gbench.json, the printf benches whose
-tables the renderer reads (joint_bench, middlebury_bench, sintel_bench,
-fusion_bench, shelf_pose_bench, joint_phases_bench) as <work>/<id>.json
-(--json).
+write their results as <work>/<id>.gbench.json, the other benches their
+tables as <work>/<id>.json (--json; bench/bench_table.h).
 """
 import os
 
@@ -33,7 +31,7 @@ def _bench_steps(c, w, b):
     if want("realistic"):
         yield tables("joint_realistic", "joint_bench", ["--preset", "realistic"] + a["joint"])
     if want("depth"):
-        yield ("run", "depth_cost", [b + "depth_cost_bench"] + a["depth"])
+        yield tables("depth_cost", "depth_cost_bench", a["depth"])
         yield tables("recon", "joint_bench", a["recon"])
     for section, step, bench in [("flow", "flow_cost", "flow_cost_bench"),
                                  ("middlebury", "middlebury", "middlebury_bench"),
@@ -41,14 +39,13 @@ def _bench_steps(c, w, b):
                                  ("fusion", "fusion", "fusion_bench"),
                                  ("pose", "shelf", "shelf_pose_bench")]:
         if want(section):
-            json_out = step != "flow_cost"
-            yield tables(step, bench, []) if json_out else ("run", step, [b + bench])
+            yield tables(step, bench, [])
     if want("sparse"):
-        yield ("run", "sparse", [b + "sparse_bench"] + a["sparse"])
+        yield tables("sparse", "sparse_bench", a["sparse"])
     if want("tracks"):
         yield gbench("tracks", "tracks_bench", [])
     if want("keyframes"):
-        yield ("run", "keyframes", [b + "keyframes_bench"] + a["keyframes"])
+        yield tables("keyframes", "keyframes_bench", a["keyframes"])
     if want("mrf"):
         yield gbench("mrf", "mrf_bench", a["mrf"])
     if want("kernels"):
