@@ -41,6 +41,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <map>
 #include <random>
 #include <string>
@@ -223,17 +224,40 @@ const Stats& Get(const StatsMap& stats, const std::string& m) {
   return it == stats.end() ? none : it->second;
 }
 
-void SegTable(const std::vector<std::string>& order, const StatsMap& stats,
-              bench::BenchTables* out) {
-  bench::Table& t =
-      out->Start("Segmentation (GT person instances, instance-weighted mean IoU)",
-                 {"method", "mean instance IoU", "merged GT", "missed", "false pos."});
+using Cells = std::vector<std::string>;
+
+// A table of a row per method of order: the method and row(its stats), none
+// where row returns no cells.
+void MethodTable(std::string title, Cells columns, const std::vector<std::string>& order,
+                 const StatsMap& stats, const std::function<Cells(const Stats&)>& row,
+                 bench::BenchTables* out) {
+  bench::Table& t = out->Start(std::move(title), std::move(columns));
   for (const std::string& m : order) {
-    const Stats& s = Get(stats, m);
-    if (!s.has_seg) continue;
-    t.Row({m, Cell("%.3f", s.seg.MeanInstanceIoU()), Cell("%d", s.seg.merged),
-           Cell("%d", s.seg.missed), Cell("%d", s.seg.false_positives)});
+    Cells cells = row(Get(stats, m));
+    if (cells.empty()) continue;
+    cells.insert(cells.begin(), m);
+    t.Row(std::move(cells));
   }
+}
+
+Cells SegCells(const Stats& s) {
+  if (!s.has_seg) return {};
+  return {Cell("%.3f", s.seg.MeanInstanceIoU()), Cell("%d", s.seg.merged), Cell("%d", s.seg.missed),
+          Cell("%d", s.seg.false_positives)};
+}
+
+Cells DepthCells(const Stats& s) {
+  if (!s.has_depth) return {};
+  if (!(s.depth.Completeness() > 0))  // e.g. SGBM on a rig without a close enough pair
+    return {"–", "–", "–", "0.000 (no estimate)"};
+  return {Cell("%.3f", s.depth.Delta1Pct()), Cell("%.3f", s.depth.Delta5Pct()),
+          Cell("%.4f", s.depth.AbsRel()), Cell("%.3f", s.depth.Completeness())};
+}
+
+Cells FlowCells(const Stats& s) {
+  if (!s.has_flow) return {};
+  return {Cell("%.3f", s.flow.Epe()), Cell("%.3f", s.flow.Within1Px()),
+          Cell("%.3f", s.flow.Within3Px()), Cell("%.3f", s.flow.Completeness())};
 }
 
 void MergeTable(const std::vector<std::string>& order,
@@ -251,21 +275,6 @@ void MergeTable(const std::vector<std::string>& order,
     const MergeStats& ms = it->second;
     t.Row({m, Cell("%d", ms.view_frames), Cell("%d", ms.split),
            Cell("%.3f", ms.seg.MeanInstanceIoU()), Cell("%d", ms.seg.merged)});
-  }
-}
-
-void DepthTable(const std::vector<std::string>& order, const StatsMap& stats,
-                bench::BenchTables* out) {
-  bench::Table& t = out->Start("Depth (GT person pixels)",
-                               {"method", "within 1%", "within 5%", "AbsRel", "completeness"});
-  for (const std::string& m : order) {
-    const Stats& s = Get(stats, m);
-    if (!s.has_depth) continue;
-    if (!(s.depth.Completeness() > 0))  // e.g. SGBM on a rig without a close enough pair
-      t.Row({m, "–", "–", "–", "0.000 (no estimate)"});
-    else
-      t.Row({m, Cell("%.3f", s.depth.Delta1Pct()), Cell("%.3f", s.depth.Delta5Pct()),
-             Cell("%.4f", s.depth.AbsRel()), Cell("%.3f", s.depth.Completeness())});
   }
 }
 
@@ -287,33 +296,23 @@ void ReconTable(const std::vector<std::string>& order,
   }
 }
 
-void FlowTable(const std::vector<std::string>& order, const StatsMap& stats,
-               bench::BenchTables* out) {
-  bench::Table& t = out->Start("Flow (GT-valid person pixels, working resolution)",
-                               {"method", "EPE px", "within 1 px", "within 3 px", "completeness"});
-  for (const std::string& m : order) {
-    const Stats& s = Get(stats, m);
-    if (!s.has_flow) continue;
-    t.Row({m, Cell("%.3f", s.flow.Epe()), Cell("%.3f", s.flow.Within1Px()),
-           Cell("%.3f", s.flow.Within3Px()), Cell("%.3f", s.flow.Completeness())});
-  }
-}
-
-void TimeTable(const std::vector<std::string>& order, const StatsMap& stats,
-               bench::BenchTables* out) {
+// Time per view; initial and zero take none.
+void TimeTable(std::vector<std::string> order, const StatsMap& stats, bench::BenchTables* out) {
   const Stats& full = Get(stats, "full");
   const double full_s = full.runs ? full.seconds / full.runs : Nan();
-  bench::Table& t =
-      out->Start("Time per view (same run)", {"method", "s / view", "joint (full) / method"});
-  for (const std::string& m : order) {
-    const Stats& s = Get(stats, m);
-    if (s.runs == 0 || m == "initial" || m == "zero") continue;
-    const double per = s.seconds / s.runs;
-    if (s.has_depth && !(s.depth.Completeness() > 0) && !s.has_flow)
-      t.Row({m, "– (no estimate)", "–"});
-    else
-      t.Row({m, Cell("%.3f", per), Cell("%.1f", full_s / per)});
-  }
+  order.erase(std::remove_if(order.begin(), order.end(),
+                             [](const std::string& m) { return m == "initial" || m == "zero"; }),
+              order.end());
+  MethodTable(
+      "Time per view (same run)", {"method", "s / view", "joint (full) / method"}, order, stats,
+      [&](const Stats& s) -> Cells {
+        if (s.runs == 0) return {};
+        const double per = s.seconds / s.runs;
+        if (s.has_depth && !(s.depth.Completeness() > 0) && !s.has_flow)
+          return {"– (no estimate)", "–"};
+        return {Cell("%.3f", per), Cell("%.1f", full_s / per)};
+      },
+      out);
 }
 
 void TraceTable(const std::vector<TraceStats>& trace, bench::BenchTables* out) {
@@ -583,11 +582,17 @@ int main(int argc, char** argv) try {
       static_cast<double>(num_depth_labels) / solved_views,
       static_cast<double>(num_motion_labels) / solved_views);
 
-  SegTable(order, stats, &tables);
+  MethodTable("Segmentation (GT person instances, instance-weighted mean IoU)",
+              {"method", "mean instance IoU", "merged GT", "missed", "false pos."}, order, stats,
+              SegCells, &tables);
   if (args.force_merge) MergeTable(order, merge_stats, seg_options.match_iou, &tables);
-  DepthTable(order, stats, &tables);
+  MethodTable("Depth (GT person pixels)",
+              {"method", "within 1%", "within 5%", "AbsRel", "completeness"}, order, stats,
+              DepthCells, &tables);
   if (!recon.empty()) ReconTable(order, recon, &tables);
-  FlowTable(order, stats, &tables);
+  MethodTable("Flow (GT-valid person pixels, working resolution)",
+              {"method", "EPE px", "within 1 px", "within 3 px", "completeness"}, order, stats,
+              FlowCells, &tables);
   TimeTable(order, stats, &tables);
   TraceTable(trace, &tables);
   tables.Write();
