@@ -2,9 +2,10 @@
 
 #include <cstdarg>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
-#include <stdexcept>
+#include <utility>
 
 namespace u4d::bench {
 namespace {
@@ -13,6 +14,12 @@ void PrintCells(const std::vector<std::string>& cells) {
   std::string line = "|";
   for (const std::string& c : cells) line += " " + c + " |";
   std::printf("%s\n", line.c_str());
+}
+
+// A usage or output error: the message on stderr, then exit.
+[[noreturn]] void Fail(const std::string& message, int status) {
+  std::fprintf(stderr, "%s\n", message.c_str());
+  std::exit(status);
 }
 
 }  // namespace
@@ -37,7 +44,7 @@ std::string TakeJsonFlag(int* argc, char** argv) {
       argv[out++] = argv[i];
       continue;
     }
-    if (i + 1 >= *argc) throw std::runtime_error("--json needs a file name");
+    if (i + 1 >= *argc) Fail(std::string(argv[0]) + ": --json needs a file name", 2);
     path = argv[++i];
   }
   *argc = out;
@@ -84,7 +91,7 @@ void BenchTables::Write() const {
   for (const Table& t : tables_) tables.push_back(t.Json());
   std::ofstream f(path_);
   f << nlohmann::json{{"bench", bench_}, {"tables", tables}}.dump(1) << "\n";
-  if (!f) throw std::runtime_error("cannot write " + path_);
+  if (!f) Fail(bench_ + ": cannot write " + path_, 1);
 }
 
 }  // namespace u4d::bench

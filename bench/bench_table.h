@@ -23,7 +23,8 @@ namespace u4d::bench {
 // printf into a string: a cell exactly as the bench printed it.
 std::string Cell(const char* format, ...) __attribute__((format(printf, 1, 2)));
 
-// Removes "--json FILE" from argv (argc shrinks); FILE, or "" if absent.
+// Removes "--json FILE" from argv (argc shrinks); FILE, or "" if absent (exits 2
+// when FILE is missing). Write exits 1 when it cannot write FILE.
 std::string TakeJsonFlag(int* argc, char** argv);
 
 class Table {

@@ -99,7 +99,8 @@ class ValuesTest(unittest.TestCase):
     def test_md_table_prints_the_table_as_the_bench_did(self):
         self.assertEqual(values.md_table(JOINT_JSON, "Depth"), [
             "| method | within 1% | within 5% | AbsRel | completeness |", "|---|---|---|---|---|",
-            "| wta | 0.100 | 0.420 | 0.0500 | 1.000 |", "| full | 0.500 | 0.984 | 0.0100 | 1.000 |"])
+            "| wta | 0.100 | 0.420 | 0.0500 | 1.000 |",
+            "| full | 0.500 | 0.984 | 0.0100 | 1.000 |"])
         self.assertEqual(values.md_table(JOINT_JSON, "Time per view"), [])
         self.assertEqual(values.md_table(None, "Depth"), [])
 
