@@ -4,7 +4,12 @@ from values import md_table
 
 
 def table(w, sid, heading):
-    return "".join(line + "\n" for line in md_table(w.tables(sid), heading))
+    """The step's table whose title starts with heading, from <sid>.json (a note where a
+    step of an older run has none)."""
+    tables = w.tables(sid)
+    if tables is None:
+        return "(no %s.json: this step ran before the benches wrote their tables as JSON)\n" % sid
+    return "".join(line + "\n" for line in md_table(tables, heading))
 
 
 def joint_section(w, heading):

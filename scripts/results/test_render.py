@@ -190,6 +190,8 @@ class DocumentTest(Fixture):
         doc = self.document(["--quick", "--only", "seg"])
         self.assertIn("initial , GrabCut  | full  | Segmentation |", doc)
         self.assertNotIn("| full | 0.969", doc)
+        self.assertIn("(no joint.json: this step ran before the benches wrote their tables as "
+                      "JSON)\n\nCommand: `", doc)
 
     def test_real_data_summary_rows_from_their_json(self):
         self.step("middlebury")
