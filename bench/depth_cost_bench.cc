@@ -4,7 +4,7 @@
 // (the GT person pixels dilated by 3 px), as Mpixel*labels/s of the pixels
 // computed; and the accuracy of the winner-take-all plane sweep on the person
 // pixels (share within 1% / 5% of the GT z). Plain executable; run:
-//   build/bench/depth_cost_bench [repeats=3]
+//   build/bench/depth_cost_bench [repeats=3] [--json FILE]
 // Times are the best of `repeats` runs, wall clock and process CPU time (all
 // threads; the CPU figure is the one to compare on a shared machine). The captures are generated
 // once, outside the timed part.
@@ -17,6 +17,7 @@
 #include <tbb/info.h>
 #include <opencv2/imgproc.hpp>
 
+#include "bench_table.h"
 #include "u4d/io/capture.h"
 #include "u4d/io/image_io.h"
 #include "u4d/io/layout.h"
@@ -57,7 +58,7 @@ Scene LoadScene(int width, int height) {
 }
 
 void Run(const Scene& s, const char* what, const cv::Mat& roi, const DepthCostOptions& o,
-         int repeats) {
+         int repeats, bench::Table* table) {
   double best = 1e30, cpu = 1e30;
   DepthCostVolume vol;
   for (int i = 0; i < repeats; ++i) {
@@ -86,6 +87,12 @@ void Run(const Scene& s, const char* what, const cv::Mat& roi, const DepthCostOp
       w, h, what, o.patch_radius, o.num_best_views, o.max_aux_views, int(o.use_color), pixels, best,
       pixels * o.num_depths / best / 1e6, cpu, pixels * o.num_depths / cpu / 1e6, n,
       double(in1) / n, double(in5) / n);
+  using bench::Cell;
+  table->Row({Cell("%dx%d", w, h), what, Cell("%d", o.patch_radius), Cell("%d", o.num_best_views),
+              Cell("%d", o.max_aux_views), Cell("%d", int(o.use_color)), Cell("%.0f", pixels),
+              Cell("%.3f", best), Cell("%.2f", pixels * o.num_depths / best / 1e6),
+              Cell("%.3f", cpu), Cell("%.2f", pixels * o.num_depths / cpu / 1e6), Cell("%d", n),
+              Cell("%.3f", double(in1) / n), Cell("%.3f", double(in5) / n)});
 }
 
 }  // namespace
@@ -93,6 +100,10 @@ void Run(const Scene& s, const char* what, const cv::Mat& roi, const DepthCostOp
 
 int main(int argc, char** argv) {
   using namespace u4d;
+  bench::BenchTables tables("depth_cost_bench", bench::TakeJsonFlag(&argc, argv));
+  bench::Table& table = tables.Record(
+      "Depth cost volume", {"size", "roi", "r", "k", "aux", "col", "px", "wall s", "Mpx*lab/s",
+                            "cpu s", "Mpx*lab/cpu-s", "person px", "within 1%", "within 5%"});
   const int repeats = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
   std::printf("TBB threads: %d; 8 views, 64 labels, reference view 0\n",
               tbb::info::default_concurrency());
@@ -101,25 +112,26 @@ int main(int argc, char** argv) {
     std::printf("%dx%d: person depth range [%.2f, %.2f] m, person pixels %d\n", w, h, s.near, s.far,
                 cv::countNonZero(s.person));
     const DepthCostOptions o;
-    Run(s, "full", cv::Mat(), o, repeats);
-    Run(s, "roi", s.roi, o, repeats);
+    Run(s, "full", cv::Mat(), o, repeats, &table);
+    Run(s, "roi", s.roi, o, repeats, &table);
     if (w == 480) {  // the cost does not depend on the patch size (box filters)
       for (int r : {1, 4}) {
         DepthCostOptions ro;
         ro.patch_radius = r;
-        Run(s, "roi", s.roi, ro, repeats);
+        Run(s, "roi", s.roi, ro, repeats, &table);
       }
       DepthCostOptions grey;  // grey instead of colour ZNCC
       grey.use_color = false;
-      Run(s, "roi", s.roi, grey, repeats);
+      Run(s, "roi", s.roi, grey, repeats, &table);
       DepthCostOptions k1;  // best-1 vs best-3 of 4 vs all of 7 usable views
       k1.num_best_views = 1;
-      Run(s, "roi", s.roi, k1, repeats);
+      Run(s, "roi", s.roi, k1, repeats, &table);
       DepthCostOptions all;
       all.num_best_views = 7;
       all.max_aux_views = 7;
-      Run(s, "roi", s.roi, all, repeats);
+      Run(s, "roi", s.roi, all, repeats, &table);
     }
   }
+  tables.Write();
   return 0;
 }

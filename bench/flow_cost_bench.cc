@@ -1,7 +1,7 @@
 // E_f cost volume (joint/flow_cost.h) vs the dense flow baselines
 // (baselines/flow_baselines.h) on a generated handshake capture, 6 views at
 // 480x270, script frames 128-130 (people walking apart). Plain executable:
-//   build/bench/flow_cost_bench
+//   build/bench/flow_cost_bench [--json FILE]
 // Prints, for window = 1..4: labels, cost-volume time (ms, TBB over labels,
 // roi = people dilated by 8 px) and the WTA EPE on GT-valid person pixels; then
 // each baseline's EPE and time on the same frames, and the time ratios.
@@ -10,6 +10,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "bench_table.h"
 #include "bench_worlds.h"
 #include "u4d/baselines/flow_baselines.h"
 #include "u4d/io/capture.h"
@@ -36,7 +37,7 @@ double Epe(const cv::Mat& flow, const cv::Mat& gt, const cv::Mat& mask) {
 
 // One world: the cost volumes' winner-take-all flow and OpenCV's flows
 // against GT on view 0, frame 1.
-void RunWorld(const std::string& world) {
+void RunWorld(const std::string& world, bench::Table* volumes, bench::Table* baseline_rows) {
   synth::SynthOptions o = bench::World(world, 6, 480, 270, 3);
   if (world == "handshake") o.start_frame = 128;
   const fs::path dir = synth::WriteCaptureToTempDir("flow_cost_bench", o);
@@ -85,6 +86,9 @@ void RunWorld(const std::string& world) {
       std::printf(
           "E_f window %d cross_view %d: %4zu labels, cost volume %7.1f ms, WTA EPE %.3f px\n",
           window, cross, labels.size(), ms, Epe(flow, gt, mask));
+      volumes->Row({world, bench::Cell("%d", window), bench::Cell("%d", cross),
+                    bench::Cell("%zu", labels.size()), bench::Cell("%.1f", ms),
+                    bench::Cell("%.3f", Epe(flow, gt, mask))});
     }
   }
   for (baselines::FlowBaseline b : baselines::AllFlowBaselines()) {
@@ -93,22 +97,30 @@ void RunWorld(const std::string& world) {
     const double ms = timer.Seconds() * 1e3;
     std::printf("%-10s EPE %.3f px, %7.1f ms (E_f window 3 / this: %.2f)\n",
                 baselines::ToString(b).c_str(), Epe(flow, gt, mask), ms, ms_ref / ms);
+    baseline_rows->Row({world, baselines::ToString(b), bench::Cell("%.3f", Epe(flow, gt, mask)),
+                        bench::Cell("%.1f", ms), bench::Cell("%.2f", ms_ref / ms)});
   }
   fs::remove_all(dir);
 }
 
-int Main() {
+int Main(int argc, char** argv) {
+  bench::BenchTables tables("flow_cost_bench", bench::TakeJsonFlag(&argc, argv));
+  bench::Table& volumes = tables.Record(
+      "E_f cost volumes", {"world", "window", "cross_view", "labels", "ms", "WTA EPE px"});
+  bench::Table& baseline_rows =
+      tables.Record("Flow baselines", {"world", "method", "EPE px", "ms", "E_f window 3 / this"});
   for (const std::string world : {"handshake", "realistic"}) {
     if (bench::WorldAvailable(world))
-      RunWorld(world);
+      RunWorld(world, &volumes, &baseline_rows);
     else
       std::printf("%s: skipped (no shared data at %s)\n", world.c_str(),
                   bench::DataDir().string().c_str());
   }
+  tables.Write();
   return 0;
 }
 
 }  // namespace
 }  // namespace u4d
 
-int main() { return u4d::Main(); }
+int main(int argc, char** argv) { return u4d::Main(argc, argv); }

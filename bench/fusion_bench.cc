@@ -6,7 +6,7 @@
 // then, on the 480x270 frame, FuseObject per Poisson octree depth and
 // thread count (time, vertices, Chamfer against the GT mesh).
 // A plain executable that prints; run from a Release build:
-//   build/bench/fusion_bench
+//   build/bench/fusion_bench [--json FILE]
 #include <algorithm>
 #include <cstdio>
 
@@ -14,6 +14,7 @@
 #include <open3d/geometry/PointCloud.h>
 #include <open3d/geometry/TriangleMesh.h>
 
+#include "bench_table.h"
 #include "bench_worlds.h"
 #include "u4d/eval/mesh_metrics.h"
 #include "u4d/fusion/depth_fusion.h"
@@ -42,7 +43,17 @@ std::vector<SceneFlowView> Step(const Maps& a, const Maps& b) {
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
+  bench::BenchTables tables("fusion_bench", bench::TakeJsonFlag(&argc, argv));
+  bench::Table& fused = tables.Record("FuseObject from GT depth",
+                                      {"world", "views x size", "person", "s", "points", "vertices",
+                                       "chamfer mm", "fused->gt mm", "gt->fused mm"});
+  bench::Table& poisson = tables.Record(
+      "Poisson depth and threads",
+      {"world", "views x size", "person", "depth", "threads", "s", "vertices", "chamfer mm"});
+  bench::Table& tracked = tables.Record(
+      "TrackVertices",
+      {"world", "views x size", "person", "s per step", "vertices", "median drift mm per frame"});
   for (const std::string world : {"handshake", "realistic"}) {
     if (!bench::WorldAvailable(world)) {
       std::printf("%s: skipped (no shared data at %s)\n", world.c_str(),
@@ -70,6 +81,11 @@ int main() {
             "(fused->gt %.1f, gt->fused %.1f)\n",
             w, h, id, fuse_s, fm.num_points_used, fm.mesh->vertices_.size(), r.chamfer * 1e3,
             r.pred_to_gt * 1e3, r.gt_to_pred * 1e3);
+        const std::string size = bench::Cell("8x%dx%d", w, h), person = std::to_string(id);
+        fused.Row({world, size, person, bench::Cell("%.2f", fuse_s),
+                   std::to_string(fm.num_points_used), std::to_string(fm.mesh->vertices_.size()),
+                   bench::Cell("%.1f", r.chamfer * 1e3), bench::Cell("%.1f", r.pred_to_gt * 1e3),
+                   bench::Cell("%.1f", r.gt_to_pred * 1e3)});
         if (frames < 3) continue;  // tracking only on the 10-frame segment
         for (const auto& [depth, threads] : {std::pair{8, 1}, std::pair{8, 2}, std::pair{7, 1},
                                              std::pair{7, 2}, std::pair{9, 1}}) {
@@ -85,6 +101,9 @@ int main() {
               "  poisson depth %d, %d thread(s): FuseObject %.2f s, %zu vertices, chamfer "
               "%.2f mm\n",
               depth, threads, pm_s, pm.mesh->vertices_.size(), pr.chamfer * 1e3);
+          poisson.Row({world, size, person, std::to_string(depth), std::to_string(threads),
+                       bench::Cell("%.2f", pm_s), std::to_string(pm.mesh->vertices_.size()),
+                       bench::Cell("%.2f", pr.chamfer * 1e3)});
         }
         // Track over the segment; drift against the matched GT vertices.
         open3d::geometry::PointCloud gt0;
@@ -104,6 +123,7 @@ int main() {
         const double track_s = tt.Seconds() / (frames - 1);
         std::printf("  TrackVertices %.3f s per step (%d vertices, 8 views); median drift (mm):",
                     track_s, seg.NumVertices());
+        std::string drifts;
         for (int k = 1; k < frames; ++k) {
           const auto gk = eval::ReadMesh(dir / layout::GtMesh(id, k));
           std::vector<double> drift;
@@ -112,11 +132,15 @@ int main() {
                 (seg.positions[k][i] - (gk.vertices_[match[i]] + verts[i] - gt.vertices_[match[i]]))
                     .norm());
           std::printf(" %.1f", Median(drift) * 1e3);
+          drifts += bench::Cell(" %.1f", Median(drift) * 1e3);
         }
         std::printf("\n");
+        tracked.Row({world, size, person, bench::Cell("%.3f", track_s),
+                     std::to_string(seg.NumVertices()), drifts.substr(1)});
       }
       fs::remove_all(dir);
     }
   }
+  tables.Write();
   return 0;
 }

@@ -12,7 +12,7 @@
 //   build/bench/joint_bench [--views 8] [--width 480] [--height 270] [--frames 4]
 //       [--start 128] [--preset handshake|meetup|realistic|realistic-moving] [--sparse 150]
 //       [--no-ablations] [--max-views N] [--methods full,P_M,...] [--weights '{"pose": 0.9}']
-//       [--force-merge] [--per-view] [--dump DIR]
+//       [--force-merge] [--per-view] [--dump DIR] [--json FILE]
 //       [the options of `u4d run`: --config FILE, --set KEY=VALUE and its named flags
 //        (pipeline/run_flags.h, docs/options.md), e.g. --working-width 480 --rounds 2
 //        --motion-candidates K; the joint and frame_setup options apply here]
@@ -41,6 +41,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <map>
 #include <random>
 #include <string>
@@ -49,6 +50,7 @@
 #include <open3d/geometry/TriangleMesh.h>
 #include <opencv2/imgproc.hpp>
 
+#include "bench_table.h"
 #include "bench_worlds.h"
 #include "u4d/baselines/flow_baselines.h"
 #include "u4d/baselines/grabcut_baseline.h"
@@ -213,9 +215,118 @@ void UseObjects(const std::vector<FrameObjects>& objects, int frame, JointFrameD
   data->object_depth_ranges = objects[frame].depth_ranges;
 }
 
+using StatsMap = std::map<std::string, Stats>;
+using bench::Cell;
+
+const Stats& Get(const StatsMap& stats, const std::string& m) {
+  static const Stats none;
+  const auto it = stats.find(m);
+  return it == stats.end() ? none : it->second;
+}
+
+using Cells = std::vector<std::string>;
+
+// A table of a row per method of order: the method and row(its stats), none
+// where row returns no cells.
+void MethodTable(std::string title, Cells columns, const std::vector<std::string>& order,
+                 const StatsMap& stats, const std::function<Cells(const Stats&)>& row,
+                 bench::BenchTables* out) {
+  bench::Table& t = out->Start(std::move(title), std::move(columns));
+  for (const std::string& m : order) {
+    Cells cells = row(Get(stats, m));
+    if (cells.empty()) continue;
+    cells.insert(cells.begin(), m);
+    t.Row(std::move(cells));
+  }
+}
+
+Cells SegCells(const Stats& s) {
+  if (!s.has_seg) return {};
+  return {Cell("%.3f", s.seg.MeanInstanceIoU()), Cell("%d", s.seg.merged), Cell("%d", s.seg.missed),
+          Cell("%d", s.seg.false_positives)};
+}
+
+Cells DepthCells(const Stats& s) {
+  if (!s.has_depth) return {};
+  if (!(s.depth.Completeness() > 0))  // e.g. SGBM on a rig without a close enough pair
+    return {"–", "–", "–", "0.000 (no estimate)"};
+  return {Cell("%.3f", s.depth.Delta1Pct()), Cell("%.3f", s.depth.Delta5Pct()),
+          Cell("%.4f", s.depth.AbsRel()), Cell("%.3f", s.depth.Completeness())};
+}
+
+Cells FlowCells(const Stats& s) {
+  if (!s.has_flow) return {};
+  return {Cell("%.3f", s.flow.Epe()), Cell("%.3f", s.flow.Within1Px()),
+          Cell("%.3f", s.flow.Within3Px()), Cell("%.3f", s.flow.Completeness())};
+}
+
+void MergeTable(const std::vector<std::string>& order,
+                const std::map<std::string, MergeStats>& merge_stats, double match_iou,
+                bench::BenchTables* out) {
+  bench::Table& t = out->Start(
+      Cell("Merged input (view-frames whose detector masks merge >= 2 GT people; initial = after "
+           "AssignInstancesToPeople; split = every GT person matched by its own instance with "
+           "IoU >= %.2f)",
+           match_iou),
+      {"method", "view-frames", "split", "mean instance IoU", "merged GT"});
+  for (const std::string& m : order) {
+    const auto it = merge_stats.find(m);
+    if (it == merge_stats.end()) continue;
+    const MergeStats& ms = it->second;
+    t.Row({m, Cell("%d", ms.view_frames), Cell("%d", ms.split),
+           Cell("%.3f", ms.seg.MeanInstanceIoU()), Cell("%d", ms.seg.merged)});
+  }
+}
+
+void ReconTable(const std::vector<std::string>& order,
+                const std::map<std::string, eval::FusedReconstruction>& recon,
+                bench::BenchTables* out) {
+  bench::Table& t = out->Start(
+      "Reconstruction (each method's depth of all views fused per GT person with the GT "
+      "masks; projection error |render xor mask| / |mask|; Chamfer to the GT mesh)",
+      {"method", "projection error", "Chamfer mm", "people fused", "empty"});
+  std::vector<std::string> recon_order = {"gt"};
+  recon_order.insert(recon_order.end(), order.begin(), order.end());
+  for (const std::string& m : recon_order) {
+    const auto it = recon.find(m);
+    if (it == recon.end()) continue;
+    const eval::FusedReconstruction& r = it->second;
+    t.Row({m, Cell("%.3f", r.projection_error.Mean()), Cell("%.1f", r.chamfer_m.Mean() * 1e3),
+           Cell("%d", r.objects - r.empty), Cell("%d", r.empty)});
+  }
+}
+
+// Time per view; initial and zero take none.
+void TimeTable(std::vector<std::string> order, const StatsMap& stats, bench::BenchTables* out) {
+  const Stats& full = Get(stats, "full");
+  const double full_s = full.runs ? full.seconds / full.runs : Nan();
+  order.erase(std::remove_if(order.begin(), order.end(),
+                             [](const std::string& m) { return m == "initial" || m == "zero"; }),
+              order.end());
+  MethodTable(
+      "Time per view (same run)", {"method", "s / view", "joint (full) / method"}, order, stats,
+      [&](const Stats& s) -> Cells {
+        if (s.runs == 0) return {};
+        const double per = s.seconds / s.runs;
+        if (s.has_depth && !(s.depth.Completeness() > 0) && !s.has_flow)
+          return {"– (no estimate)", "–"};
+        return {Cell("%.3f", per), Cell("%.1f", full_s / per)};
+      },
+      out);
+}
+
+void TraceTable(const std::vector<TraceStats>& trace, bench::BenchTables* out) {
+  bench::Table& t = out->Start("Energy trace of the full method (mean over views; E / E_init)",
+                               {"step", "block", "E / E_init", "s"});
+  for (size_t i = 0; i < trace.size(); ++i)
+    t.Row({Cell("%zu", i), trace[i].block, Cell("%.4f", trace[i].sum_ratio / trace[i].count),
+           Cell("%.3f", trace[i].sum_seconds / trace[i].count)});
+}
+
 }  // namespace
 
 int main(int argc, char** argv) try {
+  bench::BenchTables tables("joint_bench", bench::TakeJsonFlag(&argc, argv));
   const Args args = ParseArgs(argc, argv);
   synth::SynthOptions so =
       bench::World(args.preset, args.views, args.width, args.height, args.frames);
@@ -471,90 +582,20 @@ int main(int argc, char** argv) try {
       static_cast<double>(num_depth_labels) / solved_views,
       static_cast<double>(num_motion_labels) / solved_views);
 
-  auto get = [&](const std::string& m) -> const Stats& { return stats[m]; };
-  std::printf("\nSegmentation (GT person instances, instance-weighted mean IoU)\n");
-  std::printf("| method | mean instance IoU | merged GT | missed | false pos. |\n");
-  std::printf("|---|---|---|---|---|\n");
-  for (const std::string& m : order) {
-    const Stats& s = get(m);
-    if (!s.has_seg) continue;
-    std::printf("| %s | %.3f | %d | %d | %d |\n", m.c_str(), s.seg.MeanInstanceIoU(), s.seg.merged,
-                s.seg.missed, s.seg.false_positives);
-  }
-  if (args.force_merge) {
-    std::printf(
-        "\nMerged input (view-frames whose detector masks merge >= 2 GT people; initial = after "
-        "AssignInstancesToPeople; split = every GT person matched by its own instance with IoU "
-        ">= %.2f)\n",
-        seg_options.match_iou);
-    std::printf("| method | view-frames | split | mean instance IoU | merged GT |\n");
-    std::printf("|---|---|---|---|---|\n");
-    for (const std::string& m : order) {
-      const auto it = merge_stats.find(m);
-      if (it == merge_stats.end()) continue;
-      const MergeStats& ms = it->second;
-      std::printf("| %s | %d | %d | %.3f | %d |\n", m.c_str(), ms.view_frames, ms.split,
-                  ms.seg.MeanInstanceIoU(), ms.seg.merged);
-    }
-  }
-  std::printf("\nDepth (GT person pixels)\n");
-  std::printf("| method | within 1%% | within 5%% | AbsRel | completeness |\n");
-  std::printf("|---|---|---|---|---|\n");
-  for (const std::string& m : order) {
-    const Stats& s = get(m);
-    if (!s.has_depth) continue;
-    if (!(s.depth.Completeness() > 0)) {  // e.g. SGBM on a rig without a close enough pair
-      std::printf("| %s | – | – | – | 0.000 (no estimate) |\n", m.c_str());
-      continue;
-    }
-    std::printf("| %s | %.3f | %.3f | %.4f | %.3f |\n", m.c_str(), s.depth.Delta1Pct(),
-                s.depth.Delta5Pct(), s.depth.AbsRel(), s.depth.Completeness());
-  }
-  if (!recon.empty()) {
-    std::printf(
-        "\nReconstruction (each method's depth of all views fused per GT person with the GT "
-        "masks; projection error |render xor mask| / |mask|; Chamfer to the GT mesh)\n");
-    std::printf("| method | projection error | Chamfer mm | people fused | empty |\n");
-    std::printf("|---|---|---|---|---|\n");
-    std::vector<std::string> recon_order = {"gt"};
-    recon_order.insert(recon_order.end(), order.begin(), order.end());
-    for (const std::string& m : recon_order) {
-      const auto it = recon.find(m);
-      if (it == recon.end()) continue;
-      const eval::FusedReconstruction& r = it->second;
-      std::printf("| %s | %.3f | %.1f | %d | %d |\n", m.c_str(), r.projection_error.Mean(),
-                  r.chamfer_m.Mean() * 1e3, r.objects - r.empty, r.empty);
-    }
-  }
-  std::printf("\nFlow (GT-valid person pixels, working resolution)\n");
-  std::printf("| method | EPE px | within 1 px | within 3 px | completeness |\n");
-  std::printf("|---|---|---|---|---|\n");
-  for (const std::string& m : order) {
-    const Stats& s = get(m);
-    if (!s.has_flow) continue;
-    std::printf("| %s | %.3f | %.3f | %.3f | %.3f |\n", m.c_str(), s.flow.Epe(), s.flow.Within1Px(),
-                s.flow.Within3Px(), s.flow.Completeness());
-  }
-  const double full_s = get("full").runs ? get("full").seconds / get("full").runs : Nan();
-  std::printf("\nTime per view (same run)\n");
-  std::printf("| method | s / view | joint (full) / method |\n");
-  std::printf("|---|---|---|\n");
-  for (const std::string& m : order) {
-    const Stats& s = get(m);
-    if (s.runs == 0 || m == "initial" || m == "zero") continue;
-    const double per = s.seconds / s.runs;
-    if (s.has_depth && !(s.depth.Completeness() > 0) && !s.has_flow) {
-      std::printf("| %s | – (no estimate) | – |\n", m.c_str());
-      continue;
-    }
-    std::printf("| %s | %.3f | %.1f |\n", m.c_str(), per, full_s / per);
-  }
-  std::printf("\nEnergy trace of the full method (mean over views; E / E_init)\n");
-  std::printf("| step | block | E / E_init | s |\n");
-  std::printf("|---|---|---|---|\n");
-  for (size_t i = 0; i < trace.size(); ++i)
-    std::printf("| %zu | %s | %.4f | %.3f |\n", i, trace[i].block.c_str(),
-                trace[i].sum_ratio / trace[i].count, trace[i].sum_seconds / trace[i].count);
+  MethodTable("Segmentation (GT person instances, instance-weighted mean IoU)",
+              {"method", "mean instance IoU", "merged GT", "missed", "false pos."}, order, stats,
+              SegCells, &tables);
+  if (args.force_merge) MergeTable(order, merge_stats, seg_options.match_iou, &tables);
+  MethodTable("Depth (GT person pixels)",
+              {"method", "within 1%", "within 5%", "AbsRel", "completeness"}, order, stats,
+              DepthCells, &tables);
+  if (!recon.empty()) ReconTable(order, recon, &tables);
+  MethodTable("Flow (GT-valid person pixels, working resolution)",
+              {"method", "EPE px", "within 1 px", "within 3 px", "completeness"}, order, stats,
+              FlowCells, &tables);
+  TimeTable(order, stats, &tables);
+  TraceTable(trace, &tables);
+  tables.Write();
   fs::remove_all(dir);
   return 0;
 } catch (const std::exception& e) {

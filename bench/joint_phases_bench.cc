@@ -9,6 +9,7 @@
 //   build/bench/joint_phases_bench [--views 8] [--width 480] [--height 270]
 //       [--frames 3] [--start 128] [--max-views N] [--repeats 1] [the options of `u4d run`:
 //       --config FILE, --set KEY=VALUE, its named flags such as --working-width 480]
+//       [--json FILE]
 // --repeats solves each view that many times (the phase times are averaged).
 #include <cstdio>
 #include <map>
@@ -17,6 +18,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "bench_table.h"
 #include "u4d/eval/dense_metrics.h"
 #include "u4d/eval/segmentation_metrics.h"
 #include "u4d/io/capture.h"
@@ -67,6 +69,7 @@ Args ParseArgs(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) try {
+  bench::BenchTables tables("joint_phases_bench", bench::TakeJsonFlag(&argc, argv));
   const Args args = ParseArgs(argc, argv);
   synth::SynthOptions so =
       synth::SmallHandshakeOptions(args.views, args.width, args.height, args.frames);
@@ -140,11 +143,16 @@ int main(int argc, char** argv) try {
               flow.Epe());
   // CPU time (all threads of this process) is the figure to compare on a
   // shared machine; wall time depends on the load.
-  std::printf("\n| phase | wall s / view | CPU s / view | CPU share |\n|---|---|---|---|\n");
+  std::printf("\n");
+  bench::Table& t =
+      tables.Start("Phases", {"phase", "wall s / view", "CPU s / view", "CPU share"}, false);
   for (const JointViewResult::Phase& ph : phases)
-    std::printf("| %s | %.3f | %.3f | %.1f%% |\n", ph.name.c_str(), ph.seconds / solves,
-                ph.cpu_seconds / solves, 100.0 * ph.cpu_seconds / total_cpu);
-  std::printf("| total | %.3f | %.3f | 100%% |\n", total_seconds / solves, total_cpu / solves);
+    t.Row({ph.name, bench::Cell("%.3f", ph.seconds / solves),
+           bench::Cell("%.3f", ph.cpu_seconds / solves),
+           bench::Cell("%.1f%%", 100.0 * ph.cpu_seconds / total_cpu)});
+  t.Row({"total", bench::Cell("%.3f", total_seconds / solves),
+         bench::Cell("%.3f", total_cpu / solves), "100%"});
+  tables.Write();
   fs::remove_all(dir);
   return 0;
 } catch (const std::exception& e) {

@@ -7,7 +7,7 @@
 // pairs, their ratio, the max, the same for equal temporal segments with as
 // many key-frames ("uniform"), and the recurrences (members > 10 frames from
 // their key-frame: count and mean distance). Run:
-//   build/bench/keyframes_bench [frames] [fps] [views] [csv] [seed]
+//   build/bench/keyframes_bench [frames] [fps] [views] [csv] [seed] [--json FILE]
 // Defaults: 64 frames at 8 fps from script frame 0 (the whole 8 s script:
 // walk in, handshake, turn, walk away), 4 views 320x180, no csv, seed 1.
 // `csv` (a path; "" for none) writes the view-averaged terms and the GT pose
@@ -19,6 +19,7 @@
 
 #include <fmt/format.h>
 
+#include "bench_table.h"
 #include "u4d/eval/keyframe_eval.h"
 #include "u4d/io/capture.h"
 #include "u4d/io/layout.h"
@@ -40,6 +41,7 @@ std::string Join(const std::vector<int>& v) {
 }
 
 int Main(int argc, char** argv) {
+  bench::BenchTables tables("keyframes_bench", bench::TakeJsonFlag(&argc, argv));
   const int frames = argc > 1 ? std::atoi(argv[1]) : 64;
   const double fps = argc > 2 ? std::atof(argv[2]) : 8;
   const int views = argc > 3 ? std::atoi(argv[3]) : 4;
@@ -88,6 +90,9 @@ int Main(int argc, char** argv) {
     const double median = all[all.size() / 2];
     std::printf("GT pose distance: median over pairs %.4f m\n", median);
     std::printf("%-5s %7s %12s %12s\n", "term", "mean", "GT<=median", "GT>median");
+    bench::Table& term_rows = tables.Record(
+        bench::Cell("Keyframe terms (GT pose distance: median over pairs %.4f m)", median),
+        {"term", "mean", "GT<=median", "GT>median"});
     const std::pair<const char*, const Eigen::MatrixXd*> named[] = {
         {"M", &terms.m}, {"L", &terms.l}, {"D", &terms.d}, {"P", &terms.p}, {"I", &terms.i}};
     for (const auto& [name, m] : named) {
@@ -104,6 +109,8 @@ int Main(int argc, char** argv) {
       }
       std::printf("%-5s %7.3f %12.3f %12.3f\n", name, s / n, lo / std::max(1, nlo),
                   hi / std::max(1, nhi));
+      term_rows.Row({name, bench::Cell("%.3f", s / n), bench::Cell("%.3f", lo / std::max(1, nlo)),
+                     bench::Cell("%.3f", hi / std::max(1, nhi))});
     }
   }
 
@@ -143,6 +150,9 @@ int Main(int argc, char** argv) {
   c->pose_scale_m = 0.1;
   std::printf("%-40s %6s %4s %9s %9s %6s %7s %9s %9s  %s\n", "configuration", "meanKS", "#KF",
               "member_m", "random_m", "ratio", "max_m", "uniform_m", "recur", "key-frames");
+  bench::Table& selections =
+      tables.Record("Selections", {"configuration", "meanKS", "#KF", "member_m", "random_m",
+                                   "ratio", "max_m", "uniform_m", "recur", "key-frames"});
   for (const Config& c : configs) {
     KeyframeTermMatrices t = terms;
     if (c.pose_scale_m > 0) {
@@ -159,8 +169,14 @@ int Main(int argc, char** argv) {
     std::printf("%-40s %6.3f %4d %9.4f %9.4f %6.2f %7.4f %9.4f %9s  [%s]\n", c.name.c_str(),
                 ks.mean(), e.num_keyframes, e.mean_member, e.mean_all, e.MemberRatio(),
                 e.max_member, e.mean_member_uniform, recur.c_str(), Join(sel.keyframes).c_str());
+    using bench::Cell;
+    selections.Row({c.name, Cell("%.3f", ks.mean()), Cell("%d", e.num_keyframes),
+                    Cell("%.4f", e.mean_member), Cell("%.4f", e.mean_all),
+                    Cell("%.2f", e.MemberRatio()), Cell("%.4f", e.max_member),
+                    Cell("%.4f", e.mean_member_uniform), recur, Join(sel.keyframes)});
   }
   fs::remove_all(dir);
+  tables.Write();
   return 0;
 }
 

@@ -26,7 +26,7 @@
 // pixels with GT (unknown = bad, as Middlebury counts a missing value), the
 // density of the estimate there, and the mean absolute error on the pixels
 // with an estimate.
-//   build/bench/middlebury_bench [scene ...]
+//   build/bench/middlebury_bench [scene ...] [--json FILE]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -39,6 +39,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "bench_table.h"
 #include "u4d/geometry/camera.h"
 #include "u4d/io/capture.h"
 #include "u4d/io/image_io.h"
@@ -151,6 +152,7 @@ struct DepthEnergy : mrf::GridEnergy {
 }  // namespace
 
 int main(int argc, char** argv) try {
+  bench::BenchTables tables("middlebury_bench", bench::TakeJsonFlag(&argc, argv));
   const char* env = std::getenv("U4D_DATA_DIR");
   const fs::path root = (env != nullptr && *env ? fs::path(env) : fs::path("/work/shared/data")) /
                         "middlebury_stereo";
@@ -163,8 +165,8 @@ int main(int argc, char** argv) try {
   std::printf(
       "(unknown = bad), density of the estimate there, mean abs. error (px) where "
       "estimated, wall time\n\n");
-  std::printf("| scene | method | bad > 1 px | density | mean abs err px | s |\n");
-  std::printf("|---|---|---|---|---|---|\n");
+  bench::Table& per_scene = tables.Start(
+      "Per scene", {"scene", "method", "bad > 1 px", "density", "mean abs err px", "s"}, false);
   std::vector<double> bad_sum(methods.size(), 0), time_sum(methods.size(), 0);
   for (const std::string& name : names) {
     const Scene s = ReadScene(root / name);
@@ -251,16 +253,17 @@ int main(int argc, char** argv) try {
       const Score sc = Evaluate(disp[m], s);
       bad_sum[m] += sc.bad;
       time_sum[m] += secs[m];
-      std::printf("| %s | %s | %.3f | %.3f | %.2f | %.2f |\n", name.c_str(), methods[m].c_str(),
-                  sc.bad, sc.density, sc.mae, secs[m]);
+      per_scene.Row({name, methods[m], bench::Cell("%.3f", sc.bad), bench::Cell("%.3f", sc.density),
+                     bench::Cell("%.2f", sc.mae), bench::Cell("%.2f", secs[m])});
     }
     std::fflush(stdout);
   }
-  std::printf("\nMean over the scenes\n");
-  std::printf("| method | mean bad > 1 px | total s | s / sgbm s |\n|---|---|---|---|\n");
+  bench::Table& mean =
+      tables.Start("Mean over the scenes", {"method", "mean bad > 1 px", "total s", "s / sgbm s"});
   for (size_t m = 0; m < methods.size(); ++m)
-    std::printf("| %s | %.3f | %.2f | %.1f |\n", methods[m].c_str(), bad_sum[m] / names.size(),
-                time_sum[m], time_sum[m] / time_sum[2]);
+    mean.Row({methods[m], bench::Cell("%.3f", bad_sum[m] / names.size()),
+              bench::Cell("%.2f", time_sum[m]), bench::Cell("%.1f", time_sum[m] / time_sum[2])});
+  tables.Write();
   return 0;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "middlebury_bench: %s\n", e.what());

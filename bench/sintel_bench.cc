@@ -37,7 +37,7 @@
 // ("noc"), share within 1 / 3 px (all), wall time, and the time relative to
 // DeepFlow in the same run (ours includes computing its proposals; -df also
 // DeepFlow's start).
-//   build/bench/sintel_bench [case ...]      (case = clean/easy etc.)
+//   build/bench/sintel_bench [case ...] [--json FILE]   (case = clean/easy etc.)
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -48,6 +48,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "bench_table.h"
 #include "u4d/baselines/flow_baselines.h"
 #include "u4d/eval/dense_metrics.h"
 #include "u4d/io/capture.h"
@@ -171,9 +172,12 @@ cv::Mat OursFusion(const cv::Mat& a, const cv::Mat& b, const std::vector<cv::Mat
   return field_of(cur);
 }
 
+using bench::Cell;
+
 }  // namespace
 
 int main(int argc, char** argv) try {
+  bench::BenchTables tables("sintel_bench", bench::TakeJsonFlag(&argc, argv));
   const char* env = std::getenv("U4D_DATA_DIR");
   const fs::path root =
       (env != nullptr && *env ? fs::path(env) : fs::path("/work/shared/data")) / "sintel_flow";
@@ -187,9 +191,10 @@ int main(int argc, char** argv) try {
       "proposals DIS fine, DIS medium, mean, smoothed; no e_F^V / e_F^S / labels / depth /\n"
       "pose: Sintel is monocular), from the zero field; ours-fusion-df: the same, started\n"
       "at DeepFlow; their times include their proposals (and -df's DeepFlow).\n\n");
-  std::printf(
-      "| case | method | EPE all | EPE noc | within 1 px | within 3 px | s | s / deepflow |\n");
-  std::printf("|---|---|---|---|---|---|---|---|\n");
+  bench::Table& per_case = tables.Start(
+      "Per case",
+      {"case", "method", "EPE all", "EPE noc", "within 1 px", "within 3 px", "s", "s / deepflow"},
+      false);
   std::vector<eval::FlowMetrics> total_all(methods.size()), total_noc(methods.size());
   std::vector<double> total_s(methods.size(), 0);
   for (const std::string& c : cases) {
@@ -232,19 +237,20 @@ int main(int argc, char** argv) try {
       total_all[m].Add(all);
       total_noc[m].Add(nc);
       total_s[m] += secs[m];
-      std::printf("| %s | %s | %.3f | %.3f | %.3f | %.3f | %.2f | %.2f |\n", c.c_str(),
-                  methods[m].c_str(), all.Epe(), nc.Epe(), all.Within1Px(), all.Within3Px(),
-                  secs[m], secs[m] / secs[0]);
+      per_case.Row({c, methods[m], Cell("%.3f", all.Epe()), Cell("%.3f", nc.Epe()),
+                    Cell("%.3f", all.Within1Px()), Cell("%.3f", all.Within3Px()),
+                    Cell("%.2f", secs[m]), Cell("%.2f", secs[m] / secs[0])});
     }
     std::fflush(stdout);
   }
-  std::printf("\nAll cases (pixel-weighted)\n");
-  std::printf("| method | EPE all | EPE noc | within 1 px | within 3 px | s | s / deepflow |\n");
-  std::printf("|---|---|---|---|---|---|---|\n");
+  bench::Table& all = tables.Start(
+      "All cases (pixel-weighted)",
+      {"method", "EPE all", "EPE noc", "within 1 px", "within 3 px", "s", "s / deepflow"});
   for (size_t m = 0; m < methods.size(); ++m)
-    std::printf("| %s | %.3f | %.3f | %.3f | %.3f | %.2f | %.2f |\n", methods[m].c_str(),
-                total_all[m].Epe(), total_noc[m].Epe(), total_all[m].Within1Px(),
-                total_all[m].Within3Px(), total_s[m], total_s[m] / total_s[0]);
+    all.Row({methods[m], Cell("%.3f", total_all[m].Epe()), Cell("%.3f", total_noc[m].Epe()),
+             Cell("%.3f", total_all[m].Within1Px()), Cell("%.3f", total_all[m].Within3Px()),
+             Cell("%.2f", total_s[m]), Cell("%.2f", total_s[m] / total_s[0])});
+  tables.Write();
   return 0;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "sintel_bench: %s\n", e.what());

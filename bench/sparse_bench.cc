@@ -6,13 +6,14 @@
 // sparse_test.cc) and time per frame. Two configurations are run on the same
 // frames: `all_pairs` (every view pair matched, the former method) and
 // `neighbours` (the default: each view with its 2 nearest views). Run:
-//   build/bench/sparse_bench [frames] [epipolar_px]
+//   build/bench/sparse_bench [frames] [epipolar_px] [--json FILE]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
 
+#include "bench_table.h"
 #include "u4d/features/sparse_points.h"
 #include "u4d/io/capture.h"
 #include "u4d/io/frame_reader.h"
@@ -36,7 +37,8 @@ int Majority(const std::map<int, int>& votes) {
       ->first;
 }
 
-void Run(const fs::path& dir, int num_frames, const char* name, const SparseFrameOptions& o) {
+void Run(const fs::path& dir, int num_frames, const char* name, const SparseFrameOptions& o,
+         bench::Table* table) {
   const Capture capture = ReadCapture(dir);
   FrameReader reader(capture);
   Totals t;
@@ -100,6 +102,13 @@ void Run(const fs::path& dir, int num_frames, const char* name, const SparseFram
       name, t.frames, t.points / t.frames, std::sqrt(t.sq / std::max(1.0, t.obs)),
       t.within[0] / t.with_depth, t.within[1] / t.with_depth, t.within[2] / t.with_depth,
       t.right / std::max(1.0, t.points), 1000 * t.seconds / t.frames);
+  using bench::Cell;
+  table->Row({name, Cell("%d", t.frames), Cell("%.1f", t.points / t.frames),
+              Cell("%.3f", std::sqrt(t.sq / std::max(1.0, t.obs))),
+              Cell("%.3f", t.within[0] / t.with_depth), Cell("%.3f", t.within[1] / t.with_depth),
+              Cell("%.3f", t.within[2] / t.with_depth),
+              Cell("%.3f", t.right / std::max(1.0, t.points)),
+              Cell("%.0f", 1000 * t.seconds / t.frames)});
 }
 
 }  // namespace
@@ -107,6 +116,10 @@ void Run(const fs::path& dir, int num_frames, const char* name, const SparseFram
 
 int main(int argc, char** argv) {
   using namespace u4d;
+  bench::BenchTables tables("sparse_bench", bench::TakeJsonFlag(&argc, argv));
+  bench::Table& table = tables.Record(
+      "Sparse points", {"matching", "frames", "points/frame", "reproj_rmse px", "within 1 cm",
+                        "within 2 cm", "within 5 cm", "right_instance", "ms/frame"});
   const int frames = argc > 1 ? std::atoi(argv[1]) : 10;
   const double epipolar_px = argc > 2 ? std::atof(argv[2]) : 2.0;
   synth::SynthOptions o = synth::SmallHandshakeOptions(8, 960, 540, frames);
@@ -118,8 +131,9 @@ int main(int argc, char** argv) {
   all.matching.max_epipolar_px = epipolar_px;
   SparseFrameOptions neighbours;
   neighbours.matching.max_epipolar_px = epipolar_px;
-  Run(dir, frames, "all_pairs", all);
-  Run(dir, frames, "neighbours", neighbours);
+  Run(dir, frames, "all_pairs", all, &table);
+  Run(dir, frames, "neighbours", neighbours, &table);
   fs::remove_all(dir);
+  tables.Write();
   return 0;
 }

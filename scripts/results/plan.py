@@ -4,7 +4,8 @@ plan(c, work) yields actions: ("run", id, argv) runs a step whose output the
 renderer reads as <work>/<id>.out and <work>/<id>.step.json; ("copy", src,
 dst) keeps a file of a scene (when it exists) before ("rm", path) removes the
 capture. The Google Benchmark benches (mrf, kernels, tracks, synth) also
-write their results as <work>/<id>.gbench.json.
+write their results as <work>/<id>.gbench.json, the other benches their
+tables as <work>/<id>.json (--json; bench/bench_table.h).
 """
 import os
 
@@ -22,31 +23,34 @@ def _bench_steps(c, w, b):
         return ("run", name, [b + bench] + args + [
             "--benchmark_out=%s/%s.gbench.json" % (w, name), "--benchmark_out_format=json"])
 
+    def tables(name, bench, args):
+        return ("run", name, [b + bench] + args + ["--json", "%s/%s.json" % (w, name)])
+
     if want("seg") or want("depth") or want("flow"):
-        yield ("run", "joint", [b + "joint_bench"] + a["joint"])
+        yield tables("joint", "joint_bench", a["joint"])
     if want("realistic"):
-        yield ("run", "joint_realistic", [b + "joint_bench", "--preset", "realistic"] + a["joint"])
+        yield tables("joint_realistic", "joint_bench", ["--preset", "realistic"] + a["joint"])
     if want("depth"):
-        yield ("run", "depth_cost", [b + "depth_cost_bench"] + a["depth"])
-        yield ("run", "recon", [b + "joint_bench"] + a["recon"])
+        yield tables("depth_cost", "depth_cost_bench", a["depth"])
+        yield tables("recon", "joint_bench", a["recon"])
     for section, step, bench in [("flow", "flow_cost", "flow_cost_bench"),
                                  ("middlebury", "middlebury", "middlebury_bench"),
                                  ("sintel", "sintel", "sintel_bench"),
                                  ("fusion", "fusion", "fusion_bench"),
                                  ("pose", "shelf", "shelf_pose_bench")]:
         if want(section):
-            yield ("run", step, [b + bench])
+            yield tables(step, bench, [])
     if want("sparse"):
-        yield ("run", "sparse", [b + "sparse_bench"] + a["sparse"])
+        yield tables("sparse", "sparse_bench", a["sparse"])
     if want("tracks"):
         yield gbench("tracks", "tracks_bench", [])
     if want("keyframes"):
-        yield ("run", "keyframes", [b + "keyframes_bench"] + a["keyframes"])
+        yield tables("keyframes", "keyframes_bench", a["keyframes"])
     if want("mrf"):
         yield gbench("mrf", "mrf_bench", a["mrf"])
     if want("kernels"):
         yield gbench("kernels", "kernels_bench", a["kernels"])
-        yield ("run", "joint_phases", [b + "joint_phases_bench"] + a["phases"])
+        yield tables("joint_phases", "joint_phases_bench", a["phases"])
     if want("synth"):
         yield gbench("synth_render", "synth_render_bench", a["render"])
         yield gbench("synth", "synth_bench", [])

@@ -56,6 +56,10 @@ class Work:
     def json(self, name):
         return values.load(self.path(name))
 
+    def tables(self, sid):
+        """The tables the step's bench wrote with --json <work>/<sid>.json."""
+        return self.json(sid + ".json")
+
     def hide(self, text):
         return text.replace(self.folder, "<tmp>")
 

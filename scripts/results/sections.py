@@ -1,10 +1,15 @@
-"""The sections of docs/results.md on the benches of bench/ (their printed
-tables and outputs verbatim), in the document's order."""
+"""The sections of docs/results.md on the benches of bench/ (their tables, from
+the JSON they write with --json, and outputs verbatim), in the document's order."""
 from values import md_table
 
 
 def table(w, sid, heading):
-    return "".join(line + "\n" for line in md_table(w.out(sid), heading))
+    """The step's table whose title starts with heading, from <sid>.json (a note where a
+    step of an older run has none)."""
+    tables = w.tables(sid)
+    if tables is None:
+        return "(no %s.json: this step ran before the benches wrote their tables as JSON)\n" % sid
+    return "".join(line + "\n" for line in md_table(tables, heading))
 
 
 def joint_section(w, heading):

@@ -11,7 +11,7 @@ def row(*cells):
 def joint_rows(w):
     s = ""
     if w.has("joint"):
-        j = w.out("joint")
+        j = w.tables("joint")
 
         def cell(h, r, c):
             return md_cell(j, h, r, c)
@@ -28,7 +28,7 @@ def joint_rows(w):
                      cell("Flow", m, 2) for m in ("dis", "deepflow", "farneback")),
                  "full " + cell("Flow", "full", 2), "Flow")
     if w.has("recon"):
-        r = w.out("recon")
+        r = w.tables("recon")
         wta, sgbm, gt, full = (md_cell(r, "Reconstruction", m, 2)
                                for m in ("wta", "sgbm", "gt", "full"))
         s += row("projection error of the fused surface, GT masks (Reconstruction evaluation)",
@@ -51,7 +51,7 @@ def walk_row(ctx, w):
 def real_rows(w):
     s = ""
     if w.has("middlebury"):
-        m = w.out("middlebury")
+        m = w.tables("middlebury")
         s += row("Middlebury, depth term alone: mean bad-pixel rate > 1 px (4 pairs)",
                  "SGBM %s, BM %s" % (md_cell(m, "Mean over", "sgbm", 2),
                                      md_cell(m, "Mean over", "bm", 2)),
@@ -59,7 +59,7 @@ def real_rows(w):
                                                md_cell(m, "Mean over", "ours-mrf", 2)),
                  "Middlebury")
     if w.has("sintel"):
-        t = w.out("sintel")
+        t = w.tables("sintel")
 
         def epe(m):
             return "%s / %s" % (md_cell(t, "All cases", m, 2), md_cell(t, "All cases", m, 3))
@@ -75,9 +75,9 @@ def module_rows(w):
     s = ""
     if w.has("fusion"):
         s += row("mesh fused from GT depth, Chamfer mm (8x480x270, persons 1 / 2)", None,
-                 fusion_chamfer(w.out("fusion")), "Meshes")
+                 fusion_chamfer(w.tables("fusion")), "Meshes")
     if w.has("shelf"):
-        s += row("Shelf 3D pose, average PCP actors 1-3, %", None, shelf_pcp(w.out("shelf")),
+        s += row("Shelf 3D pose, average PCP actors 1-3, %", None, shelf_pcp(w.tables("shelf")),
                  "3D pose on Shelf")
     if w.has("tracks"):
         s += row("temporal tracks: share of steps within 2 px of GT flow", None,

@@ -14,26 +14,24 @@ import plan  # noqa: E402
 import render  # noqa: E402
 import values  # noqa: E402
 
-JOINT_OUT = """joint_bench: 4 views
-Segmentation (mean over views)
-| method | mean instance IoU | merged GT | missed | false pos. |
-|---|---|---|---|---|
-| initial | 0.669 | 0 | 0 | 0 |
-| grabcut | 0.869 | 0 | 1 | 0 |
-| full | 0.969 | 0 | 0 | 0 |
 
-Depth on people
-| method | within 1% | within 5% | AbsRel | completeness |
-|---|---|---|---|---|
-| wta | 0.100 | 0.420 | 0.0500 | 1.000 |
-| full | 0.500 | 0.984 | 0.0100 | 1.000 |
-Flow on people
-| method | EPE px | within 1 px | within 3 px | completeness |
-| dis | 0.309 | 0.9 | 0.99 | 1 |
-| deepflow | 0.321 | 0.9 | 0.99 | 1 |
-| farneback | 0.335 | 0.9 | 0.99 | 1 |
-| full | 0.217 | 0.9 | 0.99 | 1 |
-"""
+
+def table(title, columns, *rows):
+    return {"title": title, "columns": columns, "rows": [r.split() for r in rows]}
+
+
+# What joint_bench --json writes (cells as printed).
+JOINT_JSON = {"bench": "joint_bench", "tables": [
+    table("Segmentation (GT person instances)",
+          ["method", "mean instance IoU", "merged GT", "missed", "false pos."],
+          "initial 0.669 0 0 0", "grabcut 0.869 0 1 0", "full 0.969 0 0 0"),
+    table("Depth (GT person pixels)",
+          ["method", "within 1%", "within 5%", "AbsRel", "completeness"],
+          "wta 0.100 0.420 0.0500 1.000", "full 0.500 0.984 0.0100 1.000"),
+    table("Flow (GT-valid person pixels)",
+          ["method", "EPE px", "within 1 px", "within 3 px", "completeness"],
+          "dis 0.309 0.9 0.99 1", "deepflow 0.321 0.9 0.99 1", "farneback 0.335 0.9 0.99 1",
+          "full 0.217 0.9 0.99 1")]}
 RUN_JSON = {"stages": [
     {"name": "poses", "seconds": 1.04, "peak_rss_mb": 100.4, "items": 3},
     {"name": "segments", "seconds": 10.25, "peak_rss_mb": 250.6, "items": 3},
@@ -89,13 +87,22 @@ class ValuesTest(unittest.TestCase):
         self.assertEqual(values.mm(0.00745), "7.5")
         self.assertEqual(values.num(None), "null")
 
-    def test_md_cell_reads_the_table_after_its_heading(self):
-        self.assertEqual(values.md_cell(JOINT_OUT, "Segmentation", "grabcut", 2), "0.869")
-        self.assertEqual(values.md_cell(JOINT_OUT, "Segmentation", "grabcut", 4), "1")
-        self.assertEqual(values.md_cell(JOINT_OUT, "Depth", "wta", 3), "0.420")
-        self.assertEqual(values.md_cell(JOINT_OUT, "Flow", "full", 2), "0.217")
-        self.assertEqual(values.md_cell(JOINT_OUT, "Flow", "nope", 2), "")
-        self.assertEqual(len(values.md_table(JOINT_OUT, "Segmentation")), 5)
+    def test_md_cell_reads_the_table_whose_title_starts_with_heading(self):
+        self.assertEqual(values.md_cell(JOINT_JSON, "Segmentation", "grabcut", 2), "0.869")
+        self.assertEqual(values.md_cell(JOINT_JSON, "Segmentation", "grabcut", 4), "1")
+        self.assertEqual(values.md_cell(JOINT_JSON, "Depth", "wta", 3), "0.420")
+        self.assertEqual(values.md_cell(JOINT_JSON, "Flow", "full", 2), "0.217")
+        self.assertEqual(values.md_cell(JOINT_JSON, "Flow", "nope", 2), "")
+        self.assertEqual(values.md_cell(JOINT_JSON, "Flow", "full", 9), "")
+        self.assertEqual(values.md_cell(None, "Flow", "full", 2), "")
+
+    def test_md_table_prints_the_table_as_the_bench_did(self):
+        self.assertEqual(values.md_table(JOINT_JSON, "Depth"), [
+            "| method | within 1% | within 5% | AbsRel | completeness |", "|---|---|---|---|---|",
+            "| wta | 0.100 | 0.420 | 0.0500 | 1.000 |",
+            "| full | 0.500 | 0.984 | 0.0100 | 1.000 |"])
+        self.assertEqual(values.md_table(JOINT_JSON, "Time per view"), [])
+        self.assertEqual(values.md_table(None, "Depth"), [])
 
     def test_google_benchmark_times_in_ms(self):
         g = {"benchmarks": [{"name": "BM_MaxFlow/0/4", "real_time": 21345.0, "time_unit": "us"},
@@ -106,12 +113,20 @@ class ValuesTest(unittest.TestCase):
         self.assertEqual(values.ratio("94.0", "21.3"), "4.4")
         self.assertEqual(values.ratio("", "21.3"), "")
 
-    def test_counters_scraped_from_printed_text(self):
-        self.assertEqual(values.shelf_pcp("all 90.0\ntracked + smoothed\nactor 1 95\nall 96.0\n"),
-                         "96.0")
-        self.assertEqual(values.fusion_chamfer(
-            "8x480x270 person 1: chamfer 7.4 mm\n4x480x270 person 1: chamfer 9 mm\n"
-            "8x480x270 person 2: chamfer 8.1 mm\n"), "7.4/8.1")
+    def test_counters_from_the_tables_and_google_benchmark_json(self):
+        shelf = {"tables": [
+            table("PCP (%), raw triangulation", ["limb", "actor1", "avg(1-3)"], "all 90.0 90.0"),
+            table("PCP (%), tracked + smoothed", ["limb", "actor1", "avg(1-3)"],
+                  "head 95.0 95.0", "all 97.0 96.0")]}
+        self.assertEqual(values.shelf_pcp(shelf), "96.0")
+        self.assertEqual(values.shelf_pcp(None), "")
+        columns = ["world", "views x size", "person", "s", "points", "vertices", "chamfer mm"]
+        fusion = {"tables": [table("FuseObject from GT depth", columns,
+                                   "handshake 8x480x270 1 5.7 26952 43095 7.4",
+                                   "handshake 8x960x540 1 6.1 108174 43431 9",
+                                   "handshake 8x480x270 2 5.3 32133 40595 8.1")]}
+        self.assertEqual(values.fusion_chamfer(fusion), "7.4/8.1")
+        self.assertEqual(values.fusion_chamfer(None), "")
         tracks = {"benchmarks": [{"name": "BM_TemporalTracks/12/8", "precision": 0.98151}]}
         self.assertEqual(values.gb_counter(tracks, "precision"), "0.982")
         self.assertEqual(values.gb_counter(tracks, "recall"), "")
@@ -120,7 +135,7 @@ class ValuesTest(unittest.TestCase):
 
 class ProvenanceTest(Fixture):
     def test_provenance_names_command_run_and_hides_the_work_folder(self):
-        self.step("joint", JOINT_OUT)
+        self.step("joint", "joint_bench: 4 views\n")
         p = render.Work(self.work).provenance("joint")
         self.assertEqual(p, "\nCommand: `build/bench/x --out <tmp>/x.json`  \n"
                             "Run: 2026-12-03 10:00:00 UTC, wall 12.3 s, peak RSS 233 MB, "
@@ -153,7 +168,8 @@ class DocumentTest(Fixture):
         self.assertNotIn("This is a `--quick` run", full)
 
     def test_joint_tables_and_summary_cells(self):
-        self.step("joint", JOINT_OUT)
+        self.step("joint", "joint_bench: 4 views\n")
+        self.put("joint.json", JOINT_JSON)
         doc = self.document(["--quick", "--only", "seg,depth,flow"])
         self.assertIn("| segmentation: mean instance IoU (Segmentation comparison) | "
                       "initial 0.669, "
@@ -162,10 +178,35 @@ class DocumentTest(Fixture):
                       "Farneback 0.335 | full 0.217 | Flow |\n", doc)
         seg = doc.split("## Segmentation")[1].split("\n## ")[0]
         self.assertIn("P_PS (rows of the paper's table).\n\n| method | mean instance IoU |", seg)
+        self.assertIn("| method | mean instance IoU | merged GT | missed | false pos. |\n"
+                      "|---|---|---|---|---|\n| initial | 0.669 | 0 | 0 | 0 |\n", seg)
         self.assertIn("| full | 0.969 | 0 | 0 | 0 |\n\nCommand: `", seg)
         self.assertIn("## Reconstruction / depth (paper Table \"Reconstruction evaluation\")", doc)
         self.assertIn("### Time per view and energy trace (same joint_bench run)\n\n\n\n", doc)
         self.assertNotIn("## Graph cuts", doc)
+
+    def test_a_bench_without_its_json_has_empty_tables_and_cells(self):
+        self.step("joint", "an old run's stdout\n| full | 0.969 | 0 | 0 | 0 |\n")
+        doc = self.document(["--quick", "--only", "seg"])
+        self.assertIn("initial , GrabCut  | full  | Segmentation |", doc)
+        self.assertNotIn("| full | 0.969", doc)
+        self.assertIn("(no joint.json: this step ran before the benches wrote their tables as "
+                      "JSON)\n\nCommand: `", doc)
+
+    def test_real_data_summary_rows_from_their_json(self):
+        self.step("middlebury")
+        self.put("middlebury.json", {"tables": [
+            table("Per scene", ["scene", "method"], "tsukuba sgbm"),
+            table("Mean over the scenes", ["method", "mean bad > 1 px"], "ours-wta 0.2",
+                  "ours-mrf 0.1", "sgbm 0.3", "bm 0.4")]})
+        self.step("sintel")
+        self.put("sintel.json", {"tables": [table(
+            "All cases (pixel-weighted)", ["method", "EPE all", "EPE noc"], "deepflow 1.5 1.0",
+            "dis 2.5 2.0", "ours-fusion 3.5 3.0", "ours-fusion-df 1.4 0.9")]})
+        doc = self.document(["--quick", "--only", "middlebury,sintel"])
+        self.assertIn("| SGBM 0.3, BM 0.4 | E_d WTA 0.2, E_d + E_s 0.1 | Middlebury |\n", doc)
+        self.assertIn("| DeepFlow 1.5 / 1.0, DIS 2.5 / 2.0 | from zero 3.5 / 3.0, "
+                      "from DeepFlow 1.4 / 0.9 | Sintel |\n", doc)
 
     def test_end_to_end_tables_from_scene_json(self):
         self.step("speed_4v_320x180_synth")
@@ -251,6 +292,9 @@ class PlanTest(unittest.TestCase):
     def test_options_choose_the_steps_and_sizes(self):
         ids = [a[1] for a in self.steps(["--quick", "--only", "seg,mrf"])]
         self.assertEqual(ids, ["joint", "mrf"])
+        joint = self.steps(["--quick", "--only", "seg"])[0][2]
+        self.assertEqual(joint[0], "build/bench/joint_bench")
+        self.assertEqual(joint[-2:], ["--json", "/w/joint.json"])
         mrf = self.steps(["--quick", "--only", "mrf"])[0][2]
         self.assertEqual(mrf, ["build/bench/mrf_bench", "--benchmark_min_time=0.01",
                                "--benchmark_out=/w/mrf.gbench.json", "--benchmark_out_format=json"])

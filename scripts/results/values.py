@@ -1,8 +1,10 @@
 """Numbers out of the steps' outputs, formatted as docs/results.md prints them.
 
-The benches print Markdown tables (md_table, md_cell) or counters (the text
-scrapers below); Google Benchmark benches write JSON (gb_ms, gb_counter); `u4d run`,
-`u4d eval` and `u4d consistency` write JSON (get, r3, mm, ...). Numbers are
+The printf benches write their Markdown tables as JSON too (`--json`: md_table,
+md_cell, fusion_chamfer, shelf_pcp) and print counters (the text scrapers
+below); Google Benchmark benches
+write JSON (gb_ms, gb_counter); `u4d run`, `u4d eval` and `u4d consistency`
+write JSON (get, r3, mm, ...). Numbers are
 rounded half away from zero and printed shortest, integers without a point.
 """
 import json
@@ -85,25 +87,33 @@ def load(path):
         return None
 
 
-def md_table(text, heading):
-    """The Markdown table printed after the first line starting with heading."""
-    rows, on = [], False
-    for line in text.splitlines():
-        if line.startswith(heading):
-            on = True
-        elif on and line.startswith("|"):
-            rows.append(line)
-        elif on and rows:
-            break
-    return rows
+def bench_table(tables, heading):
+    """The first table of a bench's --json file whose title starts with heading; None if none."""
+    for t in (tables or {}).get("tables", []):
+        if t.get("title", "").startswith(heading):
+            return t
+    return None
 
 
-def md_cell(text, heading, row, col):
+def md_row(cells):
+    return "|" + "".join(" %s |" % c for c in cells)
+
+
+def md_table(tables, heading):
+    """That table's lines as the bench printed them: header, rule, rows; [] if none."""
+    t = bench_table(tables, heading)
+    if t is None:
+        return []
+    rule = "|" + "---|" * len(t["columns"])
+    return [md_row(t["columns"]), rule] + [md_row(r) for r in t["rows"]]
+
+
+def md_cell(tables, heading, row, col):
     """Column col (1 = the method) of the row named row of that table; "" if none."""
-    for line in md_table(text, heading):
-        cells = line.split("|")
-        if cells[1].strip(" ") == row:
-            return cells[col].strip(" ") if col < len(cells) else ""
+    t = bench_table(tables, heading)
+    for cells in t["rows"] if t else []:
+        if cells[0] == row:
+            return cells[col - 1] if col - 1 < len(cells) else ""
     return ""
 
 
@@ -124,26 +134,16 @@ def ratio(a, b):
     return "%.1f" % (a / b) if a > 0 and b > 0 else ""
 
 
-def fusion_chamfer(text):
+def fusion_chamfer(tables):
     """fusion_bench's Chamfer (mm) per person at 8x480x270, joined by "/"."""
-    found = []
-    for line in text.splitlines():
-        if line.startswith("8x480x270 person"):
-            m = re.match(r".*chamfer ([0-9.]*) mm", line)
-            if m:
-                found.append(m.group(1))
-    return "/".join(found)
+    t = bench_table(tables, "FuseObject from GT depth")
+    return "/".join(r[6] for r in (t["rows"] if t else []) if r[1] == "8x480x270")
 
 
-def shelf_pcp(text):
-    """The "all" PCP of shelf_pose_bench's tracked + smoothed table."""
-    on = False
-    for line in text.splitlines():
-        on = on or "tracked + smoothed" in line
-        fields = line.split()
-        if on and fields and fields[0] == "all":
-            return fields[-1]
-    return ""
+def shelf_pcp(tables):
+    """The "all" PCP of shelf_pose_bench's tracked + smoothed table (actors 1-3)."""
+    t = bench_table(tables, "PCP (%), tracked + smoothed")
+    return md_cell(tables, t["title"], "all", len(t["columns"])) if t else ""
 
 
 def gb_counter(gbench, counter):
