@@ -577,13 +577,7 @@ TEST(InitTest, GroundOccupancySplitsMergedPeopleWithOneIdAcrossViews) {
 // a detector can merge) must see two people in every frame.
 const SynthFixture& TouchFixture(const fs::path& captured_meshes) {
   static const SynthFixture* touch = [&] {
-    synth::SynthOptions o = synth::SynthPreset("realistic");
-    o.captured_meshes = captured_meshes;
-    o.rig.image_width = 320;
-    o.rig.image_height = 180;
-    o.num_frames = 10;
-    o.write_meshes = false;
-    return MakeFixture("init_touch", o);
+    return MakeFixture("init_touch", synth::SmallRealisticOptions(captured_meshes, 320, 180, 10));
   }();
   return *touch;
 }

@@ -48,14 +48,8 @@ TEST(KeepGivenPixelsTest, MismatchedMasksAreRefused) {
 TEST(PeopleFromTheNextFrameTest, PeopleWhoTouchAtTheStartOfAShotStayTwo) {
   const fs::path data = DataDir() / "captured_meshes";
   U4D_SKIP_WITHOUT_SHARED_DATA(data);
-  synth::SynthOptions o = synth::SynthPreset("realistic");
-  o.captured_meshes = data;
-  o.rig.image_width = 320;
-  o.rig.image_height = 180;
-  o.num_frames = 10;
-  o.write_meshes = false;
-  const Capture capture =
-      ReadCapture(test_util::RemovedAtExit(synth::WriteCaptureToTempDir("next_people", o)));
+  const Capture capture = ReadCapture(test_util::RemovedAtExit(synth::WriteCaptureToTempDir(
+      "next_people", synth::SmallRealisticOptions(data, 320, 180, 10))));
   std::vector<Camera> cameras;
   for (const CaptureView& v : capture.views) cameras.push_back(v.CameraAt(0));
   const int n = capture.num_frames;

@@ -483,6 +483,17 @@ SynthOptions SmallHandshakeOptions(int num_views, int width, int height, int num
   return o;
 }
 
+SynthOptions SmallRealisticOptions(const fs::path& captured_meshes, int width, int height,
+                                   int num_frames) {
+  SynthOptions o = SynthPreset("realistic");
+  o.captured_meshes = captured_meshes;
+  o.rig.image_width = width;
+  o.rig.image_height = height;
+  o.num_frames = num_frames;
+  o.write_meshes = false;
+  return o;
+}
+
 fs::path WriteCaptureToTempDir(const std::string& name, const SynthOptions& options,
                                SynthSummary* summary) {
   fs::path dir =

@@ -105,6 +105,10 @@ void UseKeyedStage(SynthOptions* o);
 // For tests and benchmarks: the handshake preset at a small size, without
 // GT meshes (set write_meshes to get them).
 SynthOptions SmallHandshakeOptions(int num_views, int width, int height, int num_frames);
+// The same for the realistic preset (its views; the captured performances
+// read from `captured_meshes`).
+SynthOptions SmallRealisticOptions(const fs::path& captured_meshes, int width, int height,
+                                   int num_frames);
 
 // Writes `options` into a fresh directory <tmp>/u4d_<name>_<pid> (one per
 // process, since ctest runs the tests of a suite in separate processes, in
