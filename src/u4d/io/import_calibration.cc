@@ -142,8 +142,8 @@ std::vector<NamedCamera> ReadPanopticCalibration(const fs::path& json_path) {
     const auto r = JsonNumbers(c, "R", 9, cctx);
     const auto t = JsonNumbers(c, "t", 3, cctx);
     Camera& cam = nc.camera;
-    cam.width = static_cast<int>(res[0]);
-    cam.height = static_cast<int>(res[1]);
+    cam.width = ImageDimension(res[0], cctx, "width");
+    cam.height = ImageDimension(res[1], cctx, "height");
     cam.K = RowMajor3x3(k.data());
     for (int i = 0; i < 5; ++i) cam.dist[i] = d[i];
     cam.cam_from_world.rotation = CleanRotation(RowMajor3x3(r.data()), cctx, 1e-4);
@@ -212,8 +212,8 @@ std::vector<NamedCamera> ReadQualisysCalibration(const fs::path& qca_path) {
     const double right = NumberAttribute(fov[0], "right", cctx);
     const double bottom = NumberAttribute(fov[0], "bottom", cctx);
     Camera& cam = nc.camera;
-    cam.width = static_cast<int>(right - left + 1);
-    cam.height = static_cast<int>(bottom - top + 1);
+    cam.width = ImageDimension(right - left + 1, cctx, "width (fov_video right - left + 1)");
+    cam.height = ImageDimension(bottom - top + 1, cctx, "height (fov_video bottom - top + 1)");
     auto in = [&](const char* name) { return NumberAttribute(intrinsic[0], name, cctx); };
     cam.K << in("focalLengthU") / 64.0, 0, in("centerPointU") / 64.0 - left,  //
         0, in("focalLengthV") / 64.0, in("centerPointV") / 64.0 - top,        //
@@ -292,8 +292,8 @@ std::vector<NamedCamera> ReadFourdaCalibration(const fs::path& json_path) {
     const auto rt = JsonNumbers(c, "RT", 12, cctx);
     const auto size = JsonNumbers(c, "imgSize", 2, cctx);
     Camera& cam = nc.camera;
-    cam.width = static_cast<int>(size[0]);
-    cam.height = static_cast<int>(size[1]);
+    cam.width = ImageDimension(size[0], cctx, "width");
+    cam.height = ImageDimension(size[1], cctx, "height");
     cam.K = RowMajor3x3(k.data());
     Eigen::Matrix3d r;
     for (int i = 0; i < 3; ++i)

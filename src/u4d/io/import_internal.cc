@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <functional>
 #include <map>
 #include <set>
@@ -22,6 +23,13 @@ double ParseFinite(const std::string& token, const std::string& context, const s
             what, token);
   U4D_CHECK(std::isfinite(v), "{}: {} is not finite ('{}')", context, what, token);
   return v;
+}
+
+int ImageDimension(double value, const std::string& context, const std::string& what) {
+  U4D_CHECK(std::isfinite(value) && value >= 1 && value <= (1 << 20) && value == std::floor(value),
+            "{}: the image {} must be a whole number in [1, {}], found {}", context, what, 1 << 20,
+            value);
+  return static_cast<int>(value);
 }
 
 // All numbers of a (possibly nested) JSON array, flattened; exactly `n`.

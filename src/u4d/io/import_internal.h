@@ -25,6 +25,11 @@ std::vector<double> JsonNumbers(const nlohmann::json& j, const std::string& key,
 
 Eigen::Matrix3d RowMajor3x3(const double* v);
 
+// An image width or height read from a file as a number: a whole number in
+// [1, 1 << 20]; throws naming context and what (a cast of a larger or
+// non-finite double to int is undefined behaviour).
+int ImageDimension(double value, const std::string& context, const std::string& what);
+
 // A rotation from 3 values (a Rodrigues vector: axis times angle in
 // radians, as cv::Rodrigues) or 9 (a row-major matrix, not yet checked:
 // pass it through CleanRotation).

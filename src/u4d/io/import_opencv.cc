@@ -59,10 +59,9 @@ cv::Size ReadImageSize(const cv::FileNode& map, const std::string& context) {
   const std::string key = FirstKey(map, kSizeKeys);
   if (key.empty()) return size;
   const std::vector<double> v = ReadNumbers(map, key, {2}, context);
-  U4D_CHECK(v[0] >= 1 && v[1] >= 1 && v[0] == std::floor(v[0]) && v[1] == std::floor(v[1]),
-            "{}: '{}' must be two positive whole numbers (width, height), found {} {}", context,
-            key, v[0], v[1]);
-  return {static_cast<int>(v[0]), static_cast<int>(v[1])};
+  const std::string what = fmt::format("'{}'", key);
+  return {ImageDimension(v[0], context, what + " width"),
+          ImageDimension(v[1], context, what + " height")};
 }
 
 // One camera from a map holding the keys; `context` names file and camera.

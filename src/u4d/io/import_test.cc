@@ -268,6 +268,11 @@ TEST(ImportPanoptic, BadInput) {
   const fs::path not_rot = tmp.path() / "not_rotation.json";
   WriteText(not_rot, j.dump());
   ExpectErrorNaming([&] { ReadPanopticCalibration(not_rot); }, not_rot.string(), "not rotation");
+  j = nlohmann::json::parse(text);
+  j["cameras"][0]["resolution"][1] = 540.5;  // not a whole number of pixels
+  const fs::path half = tmp.path() / "half_pixel.json";
+  WriteText(half, j.dump());
+  ExpectErrorNaming([&] { ReadPanopticCalibration(half); }, "image height", "fractional height");
 }
 
 // ---- Qualisys ----------------------------------------------------------------
@@ -347,6 +352,12 @@ TEST(ImportQualisys, BadInput) {
   t.replace(t.find("focalLengthU"), 12, "focalLengthX");
   WriteText(no_attr, t);
   ExpectErrorNaming([&] { ReadQualisysCalibration(no_attr); }, "focalLengthU", "missing attribute");
+  const fs::path huge = tmp.path() / "huge.qca.txt";
+  t = text;
+  const size_t fov = t.find("right=\"", t.find("<fov_video ")) + 7;
+  t.replace(fov, t.find('"', fov) - fov, "1e30");
+  WriteText(huge, t);
+  ExpectErrorNaming([&] { ReadQualisysCalibration(huge); }, "image width", "width beyond int");
   // A calibration without its videos names the missing video.
   const fs::path alone = tmp.path() / "alone" / "Calib.qca.txt";
   fs::create_directories(alone.parent_path());
