@@ -467,6 +467,10 @@ std::string EvalReport::FormatTable() const {
                        "merge rate where people touch", instances->MergeRateWhereTouching(),
                        instances->merged_touching_images, instances->touching_images,
                        instances->touch_in_contact ? "in 3D contact" : "masks adjacent");
+    if (instances->objects > 0)
+      s += fmt::format("  {:<34} {:>10.4f} ({} of {} object instances)\n",
+                       "objects merged with a person", instances->ObjectMergeRate(),
+                       instances->objects_merged_with_person, instances->objects);
   }
   if (identity) {
     const IdentitySummary id = identity->Summarize();

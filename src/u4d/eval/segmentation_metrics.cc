@@ -45,6 +45,29 @@ std::vector<std::pair<int, int>> TouchingPairs(const cv::Mat& ids, int distance)
   return {pairs.begin(), pairs.end()};
 }
 
+// Counts the visible GT objects (class other than "person") and those a
+// predicted instance covers together with a GT person (segmentation_metrics.h).
+// grid[i + 1][j + 1]: pixels of GT row i and predicted column j.
+void CountObjectsMergedWithPeople(const std::vector<std::vector<int64_t>>& grid,
+                                  const std::vector<std::string>& gt_label,
+                                  const std::vector<int64_t>& gt_area, double coverage,
+                                  InstanceSegResult* r) {
+  const int ng = static_cast<int>(gt_label.size());
+  auto covers = [&](int i, size_t j) {
+    return static_cast<double>(grid[i + 1][j]) > coverage * static_cast<double>(gt_area[i]);
+  };
+  for (int i = 0; i < ng; ++i) {
+    if (gt_label[i] == "person") continue;
+    ++r->objects;
+    bool merged = false;
+    for (size_t j = 1; j < grid[i + 1].size() && !merged; ++j) {
+      if (!covers(i, j)) continue;
+      for (int k = 0; k < ng && !merged; ++k) merged = gt_label[k] == "person" && covers(k, j);
+    }
+    r->objects_merged_with_person += merged ? 1 : 0;
+  }
+}
+
 }  // namespace
 
 void InstanceSegOptions::Check() const {
@@ -159,6 +182,7 @@ InstanceSegResult EvaluateInstances(const InstanceMask& pred, const InstanceMask
       if (static_cast<double>(grid[i + 1][j + 1]) > options.coverage * gt_area[i]) ++covered;
     if (covered >= 2) ++r.merged;
   }
+  CountObjectsMergedWithPeople(grid, gt_label, gt_area, options.coverage, &r);
   for (int i = 0; i < ng; ++i) {
     int covering = 0;
     for (int j = 0; j < np; ++j)
@@ -199,6 +223,8 @@ void InstanceSegAccumulator::Add(const InstanceSegResult& r) {
   false_positives += r.false_positives;
   merged += r.merged;
   split += r.split;
+  objects += r.objects;
+  objects_merged_with_person += r.objects_merged_with_person;
   for (const InstanceMatch& m : r.matches) {
     sum_instance_iou += m.iou;
     ClassInstances& c = per_class_instances[m.label];
@@ -217,6 +243,10 @@ double InstanceSegAccumulator::MeanInstanceIoU() const {
 
 double InstanceSegAccumulator::MergeRateWhereTouching() const {
   return touching_images > 0 ? static_cast<double>(merged_touching_images) / touching_images : kNaN;
+}
+
+double InstanceSegAccumulator::ObjectMergeRate() const {
+  return objects > 0 ? static_cast<double>(objects_merged_with_person) / objects : kNaN;
 }
 
 double InstanceSegAccumulator::MeanClassIoU() const {
@@ -256,6 +286,9 @@ nlohmann::json InstanceSegAccumulator::ToJson() const {
           {"touching_images", touching_images},
           {"merged_touching_images", merged_touching_images},
           {"merge_rate_where_touching", num(MergeRateWhereTouching())},
+          {"objects", objects},
+          {"objects_merged_with_person", objects_merged_with_person},
+          {"object_merge_rate", num(ObjectMergeRate())},
           {"touch_rule", touch_in_contact ? "3d_contact" : "image_adjacency"}};
 }
 

@@ -14,6 +14,9 @@
 //    instance covering > coverage of each of >= 2 GT instances, coverage =
 //    |P n G| / |G|) and splits (a GT instance covering > coverage of each of
 //    >= 2 predicted instances, coverage = |P n G| / |P|);
+//  - objects merged with a person: GT instances of a class other than
+//    "person" covered > coverage by a predicted instance that also covers
+//    > coverage of a GT person (a person and the box they hold as one);
 //  - the pairs of GT instances that touch in the image (come within
 //    touch_distance_px); an image where people touch and one prediction
 //    covers two of them counts towards the merge rate where people touch.
@@ -76,6 +79,7 @@ struct InstanceSegResult {
   double mean_instance_iou = 0;        // NaN when no GT instance is visible
   int num_gt = 0, num_pred = 0;
   int missed = 0, false_positives = 0, merged = 0, split = 0;
+  int objects = 0, objects_merged_with_person = 0;  // visible GT instances not of class person
   std::vector<std::pair<int, int>> touching_pairs;  // GT ids (a < b) that touch in the image
   // Whether people touch here: any touching pair, unless the caller restricts
   // it to the pairs in 3D contact (EvaluateCapture with gt/contacts.json).
@@ -108,6 +112,7 @@ struct InstanceSegAccumulator {
   int num_images = 0;
   int num_gt = 0, num_pred = 0;
   int missed = 0, false_positives = 0, merged = 0, split = 0;
+  int objects = 0, objects_merged_with_person = 0;
   // Images where GT instances touch, and those of them with a merge;
   // touch_in_contact: touching was restricted to pairs in 3D contact.
   int touching_images = 0, merged_touching_images = 0;
@@ -123,6 +128,8 @@ struct InstanceSegAccumulator {
   double MeanClassIoU() const;
   // merged_touching_images / touching_images; NaN when nobody touched.
   double MergeRateWhereTouching() const;
+  // objects_merged_with_person / objects; NaN without objects.
+  double ObjectMergeRate() const;
   nlohmann::json ToJson() const;
 };
 

@@ -94,6 +94,34 @@ TEST(Segmentation, MergeCounting) {
   EXPECT_EQ(r.split, 1);
 }
 
+// A person [0,10) holding a box [10,14), and a ball [16,20) alone.
+TEST(Segmentation, ObjectsMergedWithAPerson) {
+  const InstanceMask gt = Labels(20, 5, {{1, 0, 0, 10, 5}, {2, 10, 0, 14, 5}, {3, 16, 0, 20, 5}},
+                                 {{1, "person", 1}, {2, "box", 1}, {3, "ball", 1}});
+  // One prediction over person and box (whatever its class): the box is merged.
+  InstanceSegResult r = EvaluateInstances(
+      Labels(20, 5, {{7, 1, 0, 14, 5}, {8, 16, 0, 20, 5}}, {{7, "person", 1}, {8, "ball", 1}}), gt,
+      {}, "test");
+  EXPECT_EQ(r.objects, 2);
+  EXPECT_EQ(r.objects_merged_with_person, 1);
+  // Separate predictions: nothing merged, though the box's is a little large.
+  r = EvaluateInstances(
+      Labels(20, 5, {{7, 0, 0, 9, 5}, {8, 9, 0, 15, 5}}, {{7, "person", 1}, {8, "box", 1}}), gt, {},
+      "test");
+  EXPECT_EQ(r.objects, 2);
+  EXPECT_EQ(r.objects_merged_with_person, 0);
+  // The prediction covers the box and only 4/10 of the person: not merged.
+  r = EvaluateInstances(Labels(20, 5, {{7, 6, 0, 14, 5}}, {{7, "box", 1}}), gt, {}, "test");
+  EXPECT_EQ(r.objects_merged_with_person, 0);
+  InstanceSegAccumulator acc;
+  acc.Add(EvaluateInstances(gt, gt, {}, "test"));
+  acc.Add(EvaluateInstances(Labels(20, 5, {{7, 0, 0, 20, 5}}, {{7, "person", 1}}), gt, {}, "test"));
+  EXPECT_EQ(acc.objects, 4);
+  EXPECT_EQ(acc.objects_merged_with_person, 2);  // the second image merges both
+  EXPECT_DOUBLE_EQ(acc.ObjectMergeRate(), 0.5);
+  EXPECT_EQ(acc.ToJson()["objects_merged_with_person"], 2);
+}
+
 TEST(Segmentation, PerClassIoUAndClassConstraint) {
   // GT: person [0,10), car [10,20); pred: person [0,15), car [15,20).
   // person: inter 10, union 15; car: inter 5, union 10; foreground 20 / 20.
