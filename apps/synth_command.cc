@@ -55,10 +55,11 @@ void PrepareSynthOutput(const fs::path& out, bool force) {
 
 void PrintSynthSummary(const synth::SynthSummary& s, const std::string& dir) {
   fmt::print(
-      "wrote {}: {} views x {} frames, {} people in {:.1f} s ({:.2f} frames/s; rendering "
+      "wrote {}: {} views x {} frames, {} people{} in {:.1f} s ({:.2f} frames/s; rendering "
       "and GT flow {:.1f} s)\n",
-      dir, s.num_views, s.num_frames, s.num_people, s.seconds, s.num_frames / s.seconds,
-      s.render_seconds);
+      dir, s.num_views, s.num_frames, s.num_people,
+      s.num_objects > 0 ? fmt::format(" and {} objects", s.num_objects) : "", s.seconds,
+      s.num_frames / s.seconds, s.render_seconds);
   fmt::print(
       "initial inputs: {} dropped view-frames, {} merged instances, {} false positives, "
       "{} dropped limbs, {} left/right-swapped 2D poses\n",

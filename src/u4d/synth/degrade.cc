@@ -4,6 +4,8 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <string>
+#include <tuple>
 
 #include <opencv2/imgproc.hpp>
 
@@ -198,6 +200,23 @@ struct UnionFind {
 
 double Clamp(double v, double lo, double hi) { return std::min(hi, std::max(lo, v)); }
 
+// The class of the member (index into gt_list) with the most GT pixels;
+// "person" without classes or for an id they do not name.
+std::string MajorityClass(const cv::Mat& gt_ids, const std::map<int, cv::Rect>& boxes,
+                          const std::vector<int>& gt_list, const std::vector<int>& members,
+                          const std::map<int, std::string>* classes) {
+  if (classes == nullptr) return "person";
+  int best = gt_list[members[0]];
+  int best_area = -1;
+  for (int m : members) {
+    const int id = gt_list[m];
+    const int area = cv::countNonZero(gt_ids(boxes.at(id)) == id);
+    if (area > best_area) std::tie(best, best_area) = std::pair(id, area);
+  }
+  const auto it = classes->find(best);
+  return it == classes->end() ? "person" : it->second;
+}
+
 }  // namespace
 
 uint64_t DegradeSeed(uint64_t base, int view, int frame) {
@@ -330,7 +349,8 @@ MaskDegradeOptions MaskDegradeOptions::Harsh() {
 DegradedMask DegradeInstanceMask(const cv::Mat& gt_ids, const cv::Mat& parts,
                                  const MaskDegradeOptions& options, uint64_t seed,
                                  DetectorMemory* memory,
-                                 const std::vector<std::pair<int, int>>* contacts) {
+                                 const std::vector<std::pair<int, int>>* contacts,
+                                 const std::map<int, std::string>* classes) {
   options.Check();
   U4D_CHECK(!gt_ids.empty(), "DegradeInstanceMask: gt_ids is empty");
   U4D_CHECK(gt_ids.type() == CV_16UC1, "DegradeInstanceMask: gt_ids must be CV_16UC1, got type {}",
@@ -587,7 +607,9 @@ DegradedMask DegradeInstanceMask(const cv::Mat& gt_ids, const cv::Mat& parts,
     info.score = candidate_scores[l - 1];
     std::vector<int> gts;
     if (l <= static_cast<int>(candidates.size())) {
-      for (int m : candidates[l - 1].members) {
+      const std::vector<int>& members = candidates[l - 1].members;
+      info.label = MajorityClass(gt_ids, boxes, gt_list, members, classes);
+      for (int m : members) {
         gts.push_back(gt_list[m]);
         covered[m] = true;
       }

@@ -20,6 +20,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <set>
 #include <string>
 #include <utility>
@@ -147,7 +148,10 @@ struct DetectorMemory {
 
 struct DegradedMask {
   // Ids are renumbered 1..K in random order (a detector does not know the GT
-  // ids); every instance has label "person". All-zero and empty when dropped.
+  // ids); an instance's label is the class of its GT instance (of the one
+  // with the most pixels when merged: a person holding a box is a "person"),
+  // "person" without classes and for false positives. All-zero and empty
+  // when dropped.
   InstanceMask mask;
   bool dropped = false;  // the whole view-frame was dropped
   // For evaluation only, parallel to mask.instances: the GT ids an instance
@@ -170,12 +174,14 @@ struct DegradedMask {
 // memory: the view's DetectorMemory (updated), or null for independent frames.
 // contacts: pairs (a < b) of GT ids in contact in 3D (synth/contact.h), or
 // null when unknown (see apart_merge_prob).
+// classes: the class of each GT id, or null when all are people.
 // Throws u4d::Error on an empty or wrongly typed image, mismatched sizes, a
 // part value outside BodyPart, or invalid options.
 DegradedMask DegradeInstanceMask(const cv::Mat& gt_ids, const cv::Mat& parts,
                                  const MaskDegradeOptions& options, uint64_t seed,
                                  DetectorMemory* memory = nullptr,
-                                 const std::vector<std::pair<int, int>>* contacts = nullptr);
+                                 const std::vector<std::pair<int, int>>* contacts = nullptr,
+                                 const std::map<int, std::string>* classes = nullptr);
 
 // ------------------------------------------------------------ keypoints --
 

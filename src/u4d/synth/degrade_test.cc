@@ -302,6 +302,33 @@ TEST(DegradeMaskTest, MergesTouchingPeopleAtConfiguredRateOnly) {
   ExpectBinomial(merged, trials, 0.3, "merges of the touching pair");
 }
 
+// A person (1) touching a small box (2), and a ball (3) apart: each instance
+// gets its GT class, a merged one the class of its larger member.
+TEST(DegradeMaskTest, InstancesCarryTheirClass) {
+  GtImages gt = Blank(480, 360);
+  DrawPerson(gt, 1, 110, 160);
+  cv::rectangle(gt.ids, cv::Rect(140, 200, 30, 25), cv::Scalar(2), cv::FILLED);
+  cv::circle(gt.ids, cv::Point(400, 300), 15, cv::Scalar(3), cv::FILLED);
+  const std::map<int, std::string> classes = {{1, "person"}, {2, "box"}, {3, "ball"}};
+  MaskDegradeOptions o = MaskDegradeOptions::None();
+  o.merge_distance_px = 40;  // the box is beside the person's hip
+  for (const double merge : {0.0, 1.0}) {
+    o.merge_prob = merge;
+    const DegradedMask d = DegradeInstanceMask(gt.ids, gt.parts, o, 1, nullptr, nullptr, &classes);
+    std::map<std::vector<int>, std::string> label_of;
+    for (size_t i = 0; i < d.mask.instances.size(); ++i)
+      label_of[d.instance_gt_ids[i]] = d.mask.instances[i].label;
+    const std::map<std::vector<int>, std::string> expected =
+        merge > 0
+            ? std::map<std::vector<int>, std::string>{{{1, 2}, "person"}, {{3}, "ball"}}
+            : std::map<std::vector<int>, std::string>{{{1}, "person"}, {{2}, "box"}, {{3}, "ball"}};
+    EXPECT_EQ(label_of, expected) << "merge probability " << merge;
+  }
+  // Without classes every instance is a person.
+  for (const InstanceInfo& i : DegradeInstanceMask(gt.ids, gt.parts, o, 1).mask.instances)
+    EXPECT_EQ(i.label, "person");
+}
+
 TEST(DegradeMaskTest, MergesPersistInTimeAtTheLongRunRate) {
   // Persons 1 and 2 touch in every frame. With a memory, a merge stays with
   // probability merge_persistence, and the long-run rate stays merge_prob.

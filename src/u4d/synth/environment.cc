@@ -7,9 +7,7 @@
 #include "u4d/util/check.h"
 
 namespace u4d::synth {
-namespace {
 
-// Appends the quad a, b, c, d (counter-clockwise seen from the visible side).
 void AddQuad(SurfaceMesh& mesh, const Eigen::Vector3f& a, const Eigen::Vector3f& b,
              const Eigen::Vector3f& c, const Eigen::Vector3f& d, uint8_t material) {
   const int base = static_cast<int>(mesh.vertices.size());
@@ -22,6 +20,8 @@ void AddQuad(SurfaceMesh& mesh, const Eigen::Vector3f& a, const Eigen::Vector3f&
   mesh.face_material.push_back(material);
   mesh.face_material.push_back(material);
 }
+
+namespace {
 
 SceneObject Background() {
   SceneObject o;

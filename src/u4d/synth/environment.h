@@ -46,4 +46,10 @@ struct EnvironmentOptions {
 // The static objects (floor first, then walls/ceiling or cylinder/cap).
 std::vector<SceneObject> MakeEnvironment(const EnvironmentOptions& options);
 
+// Appends the quad a, b, c, d (counter-clockwise seen from the visible side)
+// with its own four vertices (flat shading), texcoords equal to the given
+// positions, both triangles of material `material`.
+void AddQuad(SurfaceMesh& mesh, const Eigen::Vector3f& a, const Eigen::Vector3f& b,
+             const Eigen::Vector3f& c, const Eigen::Vector3f& d, uint8_t material);
+
 }  // namespace u4d::synth

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <mutex>
 #include <random>
 
@@ -63,8 +64,8 @@ void SetRealistic(SynthOptions* o) {
 }  // namespace
 
 const std::vector<std::string>& SynthPresetNames() {
-  static const std::vector<std::string> names = {"handshake", "meetup", "moving-cameras",
-                                                 "realistic", "realistic-moving"};
+  static const std::vector<std::string> names = {"handshake", "meetup",           "moving-cameras",
+                                                 "realistic", "realistic-moving", "objects"};
   return names;
 }
 
@@ -83,6 +84,17 @@ SynthOptions SynthPreset(const std::string& preset) {
     o.environment.indoor = true;
     o.rig.angular_speed_deg_per_s = 12.0;
     o.rig.bob_amplitude = 0.1;
+  } else if (preset == "objects") {
+    o.environment.indoor = true;
+    PropOptions box;
+    box.holder = 0;
+    box.seed = 11;
+    PropOptions ball;
+    ball.kind = PropOptions::Kind::kDribbledBall;
+    ball.holder = 1;
+    ball.size = {0.24, 0.24, 0.24};
+    ball.seed = 12;
+    o.props = {box, ball};
   } else if (IsRealistic(preset)) {
     SetRealistic(&o);
     if (preset == "realistic-moving") {
@@ -123,6 +135,7 @@ void SynthOptions::Check() const {
   keypoints.Check();
   effects.Check();
   for (const CapturedPerformerOptions& c : captured) c.Check();
+  for (const PropOptions& p : props) p.Check();
   U4D_CHECK(std::isfinite(captured_touch_gap), "synth: captured_touch_gap must be finite");
   U4D_CHECK(captured.empty() || !captured_meshes.empty() ||
                 std::all_of(captured.begin(), captured.end(),
@@ -315,6 +328,7 @@ SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& 
   const std::vector<SceneObject> statics = MakeEnvironment(options.environment);
   const auto cameras = RigSequence(options.rig, options.num_frames, options.fps);
   summary.num_people = static_cast<int>(script.people.size() + captured.size());
+  summary.num_objects = static_cast<int>(options.props.size());
 
   fs::create_directories(dir);
   // capture.json is written last and marks a complete capture: remove a stale one first.
@@ -331,6 +345,9 @@ SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& 
       frame.people.push_back(
           PoseCapturedPerformer(c, g, static_cast<int>(frame.people.size()) + 1));
     frame.time = FrameTime(script, start + f);  // still people: the sensor noise still changes
+    for (SceneObject& prop :
+         PoseProps(options.props, frame, static_cast<int>(frame.people.size()) + 1))
+      frame.people.push_back(std::move(prop));
     frame.statics = statics;
     return frame;
   };
@@ -369,6 +386,8 @@ SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& 
     const FloorShadowMap shadows =
         MakeFloorShadowMap(frame, options.render.light_direction, options.effects);
     const std::vector<std::pair<int, int>> in_contact = PeopleInContact(frame);
+    std::map<int, std::string> classes;
+    for (const SceneObject& o : frame.people) classes[o.instance_id] = o.label;
     contacts.push_back({{"frame", f}, {"pairs", in_contact}});
     tbb::parallel_for(0, num_views, [&](int v) {
       const std::string& name = view_names[v];
@@ -398,7 +417,7 @@ SynthSummary WriteSyntheticCapture(const SynthOptions& options, const fs::path& 
       // Initial inputs, as a detector would give them.
       const DegradedMask degraded =
           DegradeInstanceMask(rv.instance, rv.part, options.masks, DegradeSeed(options.seed, v, f),
-                              &detector_memory[v], &in_contact);
+                              &detector_memory[v], &in_contact, &classes);
       if (!degraded.dropped)
         WriteInstanceMask(dir / layout::Mask(name, f), dir / layout::MaskInfo(name, f),
                           degraded.mask);

@@ -16,6 +16,7 @@
 #include "u4d/synth/degrade.h"
 #include "u4d/synth/environment.h"
 #include "u4d/synth/image_effects.h"
+#include "u4d/synth/props.h"
 #include "u4d/synth/render.h"
 #include "u4d/synth/rig.h"
 #include "u4d/util/file.h"
@@ -62,6 +63,9 @@ struct SynthOptions {
   // the capture is this many metres: they touch at least once. < 0 keeps the
   // positions.
   double captured_touch_gap = -1;
+  // Rigid objects the procedural people hold (props.h), objects after the
+  // people (their instance ids follow), each of its own class.
+  std::vector<PropOptions> props;
 
   void Check() const;  // throws u4d::Error on bad values or an unknown preset
 };
@@ -75,6 +79,10 @@ struct SynthOptions {
 //                     noise, exposure differing between cameras, motion blur,
 //                     floor shadows; 8 static views, indoor (needs captured_meshes)
 //   realistic-moving  the same seen by 8 cameras that orbit and bob
+//   objects           the handshake, one person carrying a box in the left
+//                     hand, the other bouncing a ball with the left hand;
+//                     the detector merges each object with its holder at
+//                     times (classes "person", "box", "ball")
 // Throws u4d::Error for an unknown name, listing the known ones.
 SynthOptions SynthPreset(const std::string& preset);
 const std::vector<std::string>& SynthPresetNames();
@@ -83,6 +91,7 @@ struct SynthSummary {
   int num_frames = 0;
   int num_views = 0;
   int num_people = 0;
+  int num_objects = 0;        // props
   double seconds = 0;         // wall time of the whole generation
   double render_seconds = 0;  // of which rendering and GT flow
   int dropped_masks = 0;      // view-frames with no initial mask
