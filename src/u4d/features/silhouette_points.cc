@@ -22,14 +22,18 @@ void SilhouettePointOptions::Check() const {
 
 std::vector<SparsePoint> SilhouettePoints(const std::vector<Camera>& cameras,
                                           const std::vector<cv::Mat>& masks,
-                                          const SilhouettePointOptions& options) {
+                                          const SilhouettePointOptions& options,
+                                          const std::vector<cv::Mat>* unknown) {
   options.Check();
   const int nv = static_cast<int>(cameras.size());
   U4D_CHECK(static_cast<int>(masks.size()) == nv, "SilhouettePoints: {} cameras but {} masks", nv,
             masks.size());
-  // Reduced, slightly dilated foreground per view (absent or empty mask: no view).
+  U4D_CHECK(unknown == nullptr || static_cast<int>(unknown->size()) == nv,
+            "SilhouettePoints: {} cameras but {} unknown masks", nv, unknown ? unknown->size() : 0);
+  // Reduced, slightly dilated foreground per view (absent or empty mask: no
+  // view), and the pixels where the view abstains (reduced, not dilated).
   std::vector<Camera> small(nv);
-  std::vector<cv::Mat> fg(nv);
+  std::vector<cv::Mat> fg(nv), abstain(nv);
   double baseline = 0;
   for (int v = 0; v < nv; ++v) {
     for (int w = 0; w < nv; ++w)
@@ -42,6 +46,13 @@ std::vector<SparsePoint> SilhouettePoints(const std::vector<Camera>& cameras,
     cv::Mat m = masks[v] > 0, r;
     cv::resize(m, r, {small[v].width, small[v].height}, 0, 0, cv::INTER_AREA);
     cv::dilate(r > 0, fg[v], cv::Mat::ones(3, 3, CV_8U));
+    if (unknown == nullptr || (*unknown)[v].empty()) continue;
+    const cv::Mat& u = (*unknown)[v];
+    U4D_CHECK(u.channels() == 1 && u.cols == cameras[v].width && u.rows == cameras[v].height,
+              "SilhouettePoints: the unknown mask of view {} must be single-channel {}x{}", v,
+              cameras[v].width, cameras[v].height);
+    cv::resize(u > 0, r, {small[v].width, small[v].height}, 0, 0, cv::INTER_AREA);
+    abstain[v] = (r > 127) & ~fg[v];  // where the view holds the object it still says so
   }
   const double far = std::max(5.0, 1.5 * baseline);
   const double inv_near = 1 / options.min_depth_m, inv_far = 1 / far;
@@ -61,8 +72,10 @@ std::vector<SparsePoint> SilhouettePoints(const std::vector<Camera>& cameras,
           if (w == v || fg[w].empty() || small[w].Depth(X) <= 0) continue;
           const Eigen::Vector2d q = small[w].Project(X);
           if (!q.allFinite() || !small[w].InImage(q)) continue;
+          const cv::Point at(int(std::lround(q.x())), int(std::lround(q.y())));
+          if (!abstain[w].empty() && abstain[w].at<uint8_t>(at) > 0) continue;
           ++seeing;
-          holding += fg[w].at<uint8_t>(int(std::lround(q.y())), int(std::lround(q.x()))) > 0;
+          holding += fg[w].at<uint8_t>(at) > 0;
         }
         if (seeing < options.min_views_seeing ||
             holding < std::ceil(options.min_foreground_share * seeing - 1e-9))

@@ -33,9 +33,15 @@ struct SilhouettePointOptions {
 // holds no foreground at all, where the detector found nobody, does not
 // vote, like an absent mask); observations are the views it projects
 // into the foreground of, with their pixels (full resolution). The farthest depth is 1.5 x the
-// largest distance between two cameras (at least 5 m).
+// largest distance between two cameras (at least 5 m). `unknown` (null, or
+// one Mat per view, empty = none) marks pixels where a view cannot tell:
+// the detections of another class (people, when the masks hold the objects
+// they carry) may hide an object or hold it merged, so a point projecting
+// there abstains in that view (neither seeing nor holding) instead of being
+// carved away. Throws u4d::Error on mismatched counts or sizes.
 std::vector<SparsePoint> SilhouettePoints(const std::vector<Camera>& cameras,
                                           const std::vector<cv::Mat>& masks,
-                                          const SilhouettePointOptions& options = {});
+                                          const SilhouettePointOptions& options = {},
+                                          const std::vector<cv::Mat>* unknown = nullptr);
 
 }  // namespace u4d

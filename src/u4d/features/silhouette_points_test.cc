@@ -93,6 +93,36 @@ TEST(SilhouettePointsTest, APersonMissedInOneViewKeepsItsPoints) {
   EXPECT_LT(strict.on_b, 0.1 * all.on_b);
 }
 
+// B is an object A holds, and C another object, seen in every view: in half
+// the views the detector gives B as part of A (B's mask is missing there,
+// A's covers it). Those views carve B away, unless A's pixels are where they
+// cannot tell (`unknown`): then B keeps its points.
+TEST(SilhouettePointsTest, AnObjectMergedWithItsHolderInHalfTheViewsKeepsItsPoints) {
+  const Views s = MakeViews();
+  const std::vector<Sphere> c = {{{0, 0.4, -1.2}, 0.25}};
+  std::vector<cv::Mat> objects, people;
+  for (size_t v = 0; v < s.cameras.size(); ++v) {
+    const bool merged = v % 2 == 1;
+    const cv::Mat on_c = RenderSpheres(s.cameras[v], c);
+    objects.push_back(merged ? on_c : (s.b[v] | on_c));
+    people.push_back(merged ? (s.a[v] | s.b[v]) : s.a[v].clone());
+  }
+  auto on_b = [](const std::vector<SparsePoint>& points) {
+    int n = 0;
+    for (const SparsePoint& p : points)
+      n += std::abs(DistanceToSpheres(p.position, kB)) < kTolerance;
+    return n;
+  };
+  const int carved = on_b(SilhouettePoints(s.cameras, objects));
+  const int kept = on_b(SilhouettePoints(s.cameras, objects, {}, &people));
+  std::printf("points on the object: %d carved by the merged views, %d with them abstaining\n",
+              carved, kept);
+  EXPECT_LT(carved, 20);
+  EXPECT_GT(kept, 150);
+  std::vector<cv::Mat> wrong(3);
+  EXPECT_THROW(SilhouettePoints(s.cameras, objects, {}, &wrong), Error);
+}
+
 TEST(SilhouettePointsTest, BadOptionsAreRefused) {
   const Views s = MakeViews();
   SilhouettePointOptions o;

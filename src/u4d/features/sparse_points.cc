@@ -215,12 +215,22 @@ void CheckMasks(const std::vector<Camera>& cameras, const std::vector<cv::Mat>& 
 
 }  // namespace
 
+std::string ClassOf(const InstanceClasses& classes, int view, int mask_id) {
+  if (view < 0 || view >= static_cast<int>(classes.size())) return "";
+  const auto it = classes[view].find(mask_id);
+  return it == classes[view].end() ? "" : it->second;
+}
+
 InstanceAssociation AssociateInstances(const std::vector<Camera>& cameras,
                                        const std::vector<cv::Mat>& masks,
                                        const std::vector<SparsePoint>& points,
-                                       const SparseOptions& options) {
+                                       const SparseOptions& options,
+                                       const InstanceClasses* classes) {
   options.Check();
   CheckMasks(cameras, masks, points, "AssociateInstances");
+  U4D_CHECK(classes == nullptr || classes->size() == masks.size(),
+            "AssociateInstances: classes of {} views for {} masks", classes ? classes->size() : 0,
+            masks.size());
   const int num_views = static_cast<int>(masks.size());
   // Labels (view, id) -> index.
   std::map<std::pair<int, int>, int> label_index;
@@ -266,7 +276,9 @@ InstanceAssociation AssociateInstances(const std::vector<Camera>& cameras,
   for (const auto& [count, a, b] : edges) {
     const int ra = find(a), rb = find(b);
     if (ra == rb) continue;
-    bool conflict = false;
+    bool conflict =
+        classes != nullptr && ClassOf(*classes, labels[ra].first, labels[ra].second) !=
+                                  ClassOf(*classes, labels[rb].first, labels[rb].second);
     for (int v : views_of[ra]) conflict = conflict || views_of[rb].count(v) > 0;
     if (conflict) continue;
     parent[ra] = rb;
@@ -295,7 +307,10 @@ InstanceAssociation AssociateInstances(const std::vector<Camera>& cameras,
 }
 
 void AssignInstances(const std::vector<cv::Mat>& masks, const InstanceAssociation& association,
-                     std::vector<SparsePoint>& points) {
+                     std::vector<SparsePoint>& points, const std::vector<cv::Mat>* unknown) {
+  U4D_CHECK(unknown == nullptr || unknown->size() == masks.size(),
+            "AssignInstances: {} unknown masks for {} masks", unknown ? unknown->size() : 0,
+            masks.size());
   for (SparsePoint& p : points) {
     std::map<int, int> votes;
     for (size_t i = 0; i < p.observations.size(); ++i) {
@@ -305,7 +320,7 @@ void AssignInstances(const std::vector<cv::Mat>& masks, const InstanceAssociatio
                 masks.size());
       const int id = MaskIdAt(masks[v], p.pixels[i]);
       if (id == 0) {
-        ++votes[0];
+        if (unknown == nullptr || MaskIdAt((*unknown)[v], p.pixels[i]) == 0) ++votes[0];
       } else if (const int object = association.ObjectOf(v, id); object > 0) {
         ++votes[object];
       }

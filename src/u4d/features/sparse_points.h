@@ -16,13 +16,16 @@
 // associated across views (AssociateInstances): two per-view instances are
 // linked by every sparse point observed inside both; pairs are merged
 // greedily by decreasing link count (at least `min_links`) into objects,
-// never putting two instances of one view into one object. A point's object
+// never putting two instances of one view into one object, nor two instances
+// of different classes when the detector's classes are given (a box seen in
+// one view and a ball seen in another are two objects). A point's object
 // is then the majority vote over its observations (background, 0, counts as
 // a vote; a tie goes to the smallest object id other than background;
 // per-view ids not associated with any object abstain).
 #pragma once
 
 #include <map>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -68,19 +71,30 @@ struct InstanceAssociation {
   int ObjectOf(int view, int mask_id) const;  // 0 when unassociated or background
 };
 
+// The detector's class of each instance: [view][mask id] -> class name. An
+// instance without an entry has the class "" (alike only to another "").
+using InstanceClasses = std::vector<std::map<int, std::string>>;
+std::string ClassOf(const InstanceClasses& classes, int view, int mask_id);
+
 // `masks[v]` is the initial instance id image of view v (any integer type,
 // 0 = background); an empty Mat means no detections in that view. Objects
-// are numbered 1..K by decreasing number of points. Throws u4d::Error when
-// the number of masks differs from the number of views seen in `points` or a
-// mask's size differs from its camera's.
+// are numbered 1..K by decreasing number of points. `classes` (null: all
+// alike) keeps instances of different classes apart. Throws u4d::Error when
+// the number of masks differs from the number of views seen in `points`, a
+// mask's size differs from its camera's, or `classes` has another length.
 InstanceAssociation AssociateInstances(const std::vector<Camera>& cameras,
                                        const std::vector<cv::Mat>& masks,
                                        const std::vector<SparsePoint>& points,
-                                       const SparseOptions& options = {});
+                                       const SparseOptions& options = {},
+                                       const InstanceClasses* classes = nullptr);
 
 // Sets each point's `instance` by majority vote (see the header comment).
+// A background observation on a pixel of `unknown` (null, or one Mat per
+// view, empty = none: detections of another class, which may hide or hold
+// the object) abstains instead.
 void AssignInstances(const std::vector<cv::Mat>& masks, const InstanceAssociation& association,
-                     std::vector<SparsePoint>& points);
+                     std::vector<SparsePoint>& points,
+                     const std::vector<cv::Mat>* unknown = nullptr);
 
 // The mask id at a (distorted) pixel, nearest pixel; 0 outside the image or
 // for an empty mask.

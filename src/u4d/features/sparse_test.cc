@@ -259,6 +259,61 @@ TEST_F(SparseSynthTest, PoseConstraintRestoresADroppedForearm) {
   EXPECT_EQ(restored_without, 0);
 }
 
+// Two views, each with instances 1 and 2; five points link view 0's
+// instance 1 to view 1's instance 2 (and nothing else). Without classes they
+// are one object; with different classes they stay apart.
+TEST(SparsePoints, InstancesOfDifferentClassesAreNeverOneObject) {
+  Camera cam;
+  cam.width = 20;
+  cam.height = 10;
+  const std::vector<Camera> cams = {cam, cam};
+  cv::Mat mask(10, 20, CV_16U, cv::Scalar(0));
+  mask(cv::Rect(0, 0, 10, 10)).setTo(1);
+  mask(cv::Rect(10, 0, 10, 10)).setTo(2);
+  const std::vector<cv::Mat> masks = {mask, mask};
+  std::vector<SparsePoint> points(5);
+  for (int i = 0; i < 5; ++i) {
+    points[i].observations = {{0, i}, {1, i}};
+    points[i].pixels = {Eigen::Vector2d(2 + i, 5), Eigen::Vector2d(12 + i, 5)};
+  }
+  const InstanceAssociation blind = AssociateInstances(cams, masks, points);
+  EXPECT_EQ(blind.num_objects, 1);
+  EXPECT_EQ(blind.ObjectOf(0, 1), blind.ObjectOf(1, 2));
+  InstanceClasses classes = {{{1, "box"}, {2, "person"}}, {{1, "person"}, {2, "ball"}}};
+  const InstanceAssociation apart = AssociateInstances(cams, masks, points, {}, &classes);
+  EXPECT_EQ(apart.num_objects, 0);  // no cluster spans two views
+  classes[1][2] = "box";
+  const InstanceAssociation alike = AssociateInstances(cams, masks, points, {}, &classes);
+  EXPECT_EQ(alike.num_objects, 1);
+  EXPECT_EQ(alike.ObjectOf(0, 1), alike.ObjectOf(1, 2));
+  classes.pop_back();
+  EXPECT_THROW(AssociateInstances(cams, masks, points, {}, &classes), Error);
+}
+
+// A point on an object seen in view 0 and on the background of views 1 and
+// 2, where a person's detection covers it (the object merged with, or hidden
+// by, the person there): background by majority, unless those views abstain.
+TEST(SparsePoints, ViewsThatCannotTellAbstainFromTheVote) {
+  cv::Mat object(10, 20, CV_16U, cv::Scalar(0)), none(10, 20, CV_16U, cv::Scalar(0));
+  object(cv::Rect(0, 0, 10, 10)).setTo(1);
+  cv::Mat person(10, 20, CV_16U, cv::Scalar(0));
+  person(cv::Rect(0, 0, 10, 10)).setTo(1);
+  const std::vector<cv::Mat> masks = {object, none, none};
+  InstanceAssociation association;
+  association.num_objects = 1;
+  association.object_of = {{{1, 1}}, {}, {}};
+  std::vector<SparsePoint> points(1);
+  points[0].observations = {{0, 0}, {1, 0}, {2, 0}};
+  points[0].pixels.assign(3, Eigen::Vector2d(5, 5));
+  AssignInstances(masks, association, points);
+  EXPECT_EQ(points[0].instance, 0);
+  const std::vector<cv::Mat> unknown = {cv::Mat(), person, person};
+  AssignInstances(masks, association, points, &unknown);
+  EXPECT_EQ(points[0].instance, 1);
+  const std::vector<cv::Mat> short_list = {person};
+  EXPECT_THROW(AssignInstances(masks, association, points, &short_list), Error);
+}
+
 TEST(SparsePoints, BadInputThrows) {
   Camera cam;
   cam.width = 10;

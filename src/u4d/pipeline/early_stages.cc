@@ -164,15 +164,19 @@ int ComputeInitialObjects(RunContext& c, const std::vector<std::vector<Pose3d>>&
     if (c.masks == MaskSource::kUnsupervised)
       masks = UnsupervisedInstanceMasks(cams, images, backgrounds, c.o.init, keys);
     if (given_on_ground) masks = GroundPeopleFromDetections(cams, masks, c.o.init, &ground_people);
-    // With poses, instances that are not people become objects without a pose.
+    // With poses, instances that are not people become objects without a
+    // pose. The detector's classes keep objects of different classes apart
+    // where the masks are its own (not renamed by the ground step).
+    const InstanceClasses classes = InstanceClassesOf(given);
+    const InstanceClasses* given_classes = given.empty() || given_on_ground ? nullptr : &classes;
     FrameObjects objects =
-        !with_poses
-            ? ObjectsFromSparse(cams, images, masks, c.o.sparse, c.o.regions, &linker, ground)
-        : given.empty()
-            ? ObjectsFromPoses(cams, masks, poses[k], c.o.frame_setup)
-            : ObjectsFromPosesAndOthers(cams, images, IdImages(KeepInstances(given, true)),
-                                        IdImages(KeepInstances(given, false)), poses[k],
-                                        c.o.frame_setup, c.o.sparse, c.o.regions, &linker);
+        !with_poses     ? ObjectsFromSparse(cams, images, masks, c.o.sparse, c.o.regions, &linker,
+                                            ground, {given_classes})
+        : given.empty() ? ObjectsFromPoses(cams, masks, poses[k], c.o.frame_setup)
+                        : ObjectsFromPosesAndOthers(
+                              cams, images, IdImages(KeepInstances(given, true)),
+                              IdImages(KeepInstances(given, false)), poses[k], c.o.frame_setup,
+                              c.o.sparse, c.o.regions, &linker, given_classes);
     if (!given.empty()) objects.class_votes = VoteObjectClasses(objects.ids, given);
     WriteFrameObjects(c.out, c.names, f, objects);
     bool any = false;

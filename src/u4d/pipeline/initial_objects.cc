@@ -29,10 +29,15 @@ cv::Mat Relabel(const cv::Mat& ids, const std::map<int, int>& new_id) {
 
 // Per-frame object k -> linked id, updating the linker.
 std::map<int, int> LinkObjects(const std::map<int, Eigen::Vector3d>& centroids,
-                               ObjectLinker* linker) {
+                               const std::map<int, std::string>& labels, ObjectLinker* linker) {
+  auto label_of = [&](int k) {
+    const auto it = labels.find(k);
+    return it == labels.end() ? std::string() : it->second;
+  };
   std::vector<std::tuple<double, int, int>> pairs;  // distance, object, track id
   for (const auto& [k, c] : centroids)
     for (const auto& [id, track] : linker->tracks) {
+      if (track.label != label_of(k)) continue;
       const double d = (c - track.position).norm();
       if (d <= linker->options.max_centroid_jump_m * (1 + track.missing))
         pairs.emplace_back(d, k, id);
@@ -47,7 +52,7 @@ std::map<int, int> LinkObjects(const std::map<int, Eigen::Vector3d>& centroids,
   for (auto it = linker->tracks.begin(); it != linker->tracks.end();)
     it =
         ++it->second.missing > linker->options.max_missing_frames ? linker->tracks.erase(it) : ++it;
-  for (const auto& [k, c] : centroids) linker->tracks[link[k]] = {c, 0};
+  for (const auto& [k, c] : centroids) linker->tracks[link[k]] = {c, 0, label_of(k)};
   return link;
 }
 
@@ -71,10 +76,27 @@ InstanceAssociation IdentityAssociation(const std::vector<cv::Mat>& masks) {
   return a;
 }
 
+// The class of each associated object: that of its instances (alike when
+// AssociateInstances was given the classes).
+std::map<int, std::string> ObjectLabels(const InstanceAssociation& association,
+                                        const InstanceClasses* classes) {
+  std::map<int, std::string> out;
+  if (classes == nullptr) return out;
+  for (size_t v = 0; v < association.object_of.size(); ++v)
+    for (const auto& [id, object] : association.object_of[v])
+      out.emplace(object, ClassOf(*classes, static_cast<int>(v), id));
+  return out;
+}
+
 // Instances of a view not associated with an object join the object most
-// of their silhouette points are associated with in the other views.
+// of their silhouette points are associated with in the other views (with
+// classes: among the objects of the instance's class).
 void AttachFragments(const std::vector<cv::Mat>& masks, const std::vector<SparsePoint>& points,
-                     InstanceAssociation* association) {
+                     const InstanceClasses* classes, InstanceAssociation* association) {
+  const std::map<int, std::string> object_labels = ObjectLabels(*association, classes);
+  auto alike = [&](int view, int id, int object) {
+    return classes == nullptr || ClassOf(*classes, view, id) == object_labels.at(object);
+  };
   std::map<std::pair<int, int>, std::map<int, int>> votes;  // (view, id) -> object -> count
   for (const SparsePoint& p : points) {
     std::vector<std::pair<int, int>> labels;
@@ -89,7 +111,8 @@ void AttachFragments(const std::vector<cv::Mat>& masks, const std::vector<Sparse
         labels.emplace_back(v, id);
     }
     for (const auto& label : labels)
-      for (int o : objects) ++votes[label][o];
+      for (int o : objects)
+        if (alike(label.first, label.second, o)) ++votes[label][o];
   }
   for (const auto& [label, by_object] : votes) {
     const auto best =
@@ -194,23 +217,26 @@ FrameObjects ObjectsFromSparse(const std::vector<Camera>& cameras,
                                const std::vector<cv::Mat>& masks,
                                const SparseFrameOptions& sparse_options,
                                const ObjectRegionOptions& region_options, ObjectLinker* linker,
-                               bool ids_alike_across_views) {
+                               bool ids_alike_across_views, const DetectorContext& detector) {
+  const InstanceClasses* classes = detector.classes;
   U4D_CHECK(linker != nullptr, "ObjectsFromSparse: no linker");
   U4D_CHECK(cameras.size() == masks.size() && cameras.size() == images.size(),
             "ObjectsFromSparse: {} cameras, {} images and {} masks", cameras.size(), images.size(),
             masks.size());
   SparseFrame sparse = ReconstructSparseFrame(cameras, images, masks, sparse_options);
   std::vector<SparsePoint> evidence = sparse.points;
-  for (SparsePoint& p : SilhouettePoints(cameras, masks, region_options.silhouette))
+  for (SparsePoint& p :
+       SilhouettePoints(cameras, masks, region_options.silhouette, detector.unknown))
     evidence.push_back(std::move(p));
   if (ids_alike_across_views) {
     sparse.association = IdentityAssociation(masks);
   } else {
-    sparse.association = AssociateInstances(cameras, masks, evidence, sparse_options.sparse);
-    AttachFragments(masks, evidence, &sparse.association);
+    sparse.association =
+        AssociateInstances(cameras, masks, evidence, sparse_options.sparse, classes);
+    AttachFragments(masks, evidence, classes, &sparse.association);
   }
-  AssignInstances(masks, sparse.association, sparse.points);
-  AssignInstances(masks, sparse.association, evidence);
+  AssignInstances(masks, sparse.association, sparse.points, detector.unknown);
+  AssignInstances(masks, sparse.association, evidence, detector.unknown);
   // Depth ranges from the feature points (accurate) where a view has enough
   // of them, else from the visual hull.
   const auto regions =
@@ -231,7 +257,8 @@ FrameObjects ObjectsFromSparse(const std::vector<Camera>& cameras,
     }
     centroids[k] = m;
   }
-  const std::map<int, int> link = LinkObjects(centroids, linker);
+  const std::map<int, int> link =
+      LinkObjects(centroids, ObjectLabels(sparse.association, classes), linker);
 
   FrameObjects out;
   out.num_sparse_points = static_cast<int>(sparse.points.size());
@@ -249,7 +276,9 @@ FrameObjects ObjectsFromSparse(const std::vector<Camera>& cameras,
     out.ids[v] = Relabel(ids16, new_id);
     for (const auto& object_regions : regions) {
       const ObjectRegion& r = object_regions[v];
-      if (!link.count(r.instance) || !r.detected) continue;
+      // Beside people, an object not detected in this view may be merged
+      // with one of them there: it gets its depth range all the same.
+      if (!link.count(r.instance) || (!r.detected && detector.unknown == nullptr)) continue;
       double near = r.depth_near, far = r.depth_far;
       bool usable = r.depth_source == DepthSource::kSparsePoints;
       if (!usable) {
@@ -287,14 +316,15 @@ FrameObjects ObjectsFromPosesAndOthers(
     const std::vector<cv::Mat>& people_masks, const std::vector<cv::Mat>& other_masks,
     const std::vector<Pose3d>& poses, const FrameSetupOptions& frame_options,
     const SparseFrameOptions& sparse_options, const ObjectRegionOptions& region_options,
-    ObjectLinker* linker) {
+    ObjectLinker* linker, const InstanceClasses* other_classes) {
   FrameObjects out = ObjectsFromPoses(cameras, people_masks, poses, frame_options);
   const bool any_other = std::any_of(other_masks.begin(), other_masks.end(), [](const cv::Mat& m) {
     return !m.empty() && cv::countNonZero(m) > 0;
   });
   if (!any_other) return out;
   const FrameObjects others =
-      ObjectsFromSparse(cameras, images, other_masks, sparse_options, region_options, linker);
+      ObjectsFromSparse(cameras, images, other_masks, sparse_options, region_options, linker,
+                        /*ids_alike_across_views=*/false, {other_classes, &people_masks});
   out.centroids = others.centroids;
   out.num_sparse_points = others.num_sparse_points;
   out.depth_ranges = others.depth_ranges;

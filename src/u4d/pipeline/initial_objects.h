@@ -82,6 +82,7 @@ struct ObjectLinker {
   struct Track {
     Eigen::Vector3d position;  // world centroid when last seen
     int missing = 0;           // frames since then
+    std::string label;         // the detector's class ("" when unknown): links only alike
   };
   std::map<int, Track> tracks;  // object id -> track
   int next_id = 1;
@@ -136,26 +137,47 @@ FrameObjects ObjectsFromPoses(const std::vector<Camera>& cameras, const std::vec
 // people: a box, a chair), the objects without a pose, associated across
 // views and linked through time as without poses (ObjectsFromSparse, ids from
 // `linker`, which the caller starts above every person id), with their depth
-// ranges. Where both claim a pixel the person keeps it. `other_masks` without
-// any instance pixel give exactly ObjectsFromPoses.
+// ranges; `other_classes` are the classes of the other masks' ids, and the
+// people's masks are where the views cannot tell (DetectorContext). Where
+// both claim a pixel the person keeps it. `other_masks` without any instance
+// pixel give exactly ObjectsFromPoses.
 FrameObjects ObjectsFromPosesAndOthers(
     const std::vector<Camera>& cameras, const std::vector<cv::Mat>& images,
     const std::vector<cv::Mat>& people_masks, const std::vector<cv::Mat>& other_masks,
     const std::vector<Pose3d>& poses, const FrameSetupOptions& frame_options,
     const SparseFrameOptions& sparse_options, const ObjectRegionOptions& region_options,
-    ObjectLinker* linker);
+    ObjectLinker* linker, const InstanceClasses* other_classes = nullptr);
 
 // Without poses: see above. With `ids_alike_across_views` (masks whose id
 // is already the same person in every view, e.g. init.h's step 6) mask id k
 // is object k in every view and the feature/silhouette association is not
-// run (the points still give centroids and depth ranges). Throws
+// run (the points still give centroids and depth ranges). `detector` adds
+// what the detector said beyond the masks (DetectorContext). Throws
 // u4d::Error on mismatched sizes.
+//
+// What the detector says beyond the masks being associated (each optional):
+//  - classes: the class of each mask id (features/sparse_points.h). Instances
+//    of different classes are never one object, a fragment joins only an
+//    object of its class, and an object links only to a track of its class.
+//  - unknown: per view (empty Mat = none), the pixels of detections that are
+//    not among the masks: the people, when the masks hold the objects
+//    without a pose. A silhouette point projecting there abstains in that
+//    view (SilhouettePoints), so that a box the detector merged with the
+//    person holding it in half the views is not carved out of the hull;
+//    and every object gets a depth range in every view its points project
+//    into, also where it is not detected (the solve may find it in a
+//    person's pixels there, joint/hull_support.h).
+struct DetectorContext {
+  const InstanceClasses* classes = nullptr;
+  const std::vector<cv::Mat>* unknown = nullptr;
+};
 FrameObjects ObjectsFromSparse(const std::vector<Camera>& cameras,
                                const std::vector<cv::Mat>& images,
                                const std::vector<cv::Mat>& masks,
                                const SparseFrameOptions& sparse_options,
                                const ObjectRegionOptions& region_options, ObjectLinker* linker,
-                               bool ids_alike_across_views = false);
+                               bool ids_alike_across_views = false,
+                               const DetectorContext& detector = {});
 
 // Writes / reads the files above for `frame` under the scene root `out`.
 // Reading a frame never written throws u4d::Error naming the file.

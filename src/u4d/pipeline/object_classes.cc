@@ -49,6 +49,13 @@ std::vector<cv::Mat> IdImages(const std::vector<InstanceMask>& masks) {
   return ids;
 }
 
+InstanceClasses InstanceClassesOf(const std::vector<InstanceMask>& masks) {
+  InstanceClasses out(masks.size());
+  for (size_t v = 0; v < masks.size(); ++v)
+    for (const InstanceInfo& info : masks[v].instances) out[v][info.id] = info.label;
+  return out;
+}
+
 std::vector<InstanceMask> KeepInstances(const std::vector<InstanceMask>& masks, bool people) {
   std::vector<InstanceMask> out(masks.size());
   for (size_t v = 0; v < masks.size(); ++v) {

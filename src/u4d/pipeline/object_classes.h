@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 
+#include "u4d/features/sparse_points.h"
 #include "u4d/io/instance_mask.h"
 #include "u4d/util/file.h"
 
@@ -41,6 +42,9 @@ ClassVotes VoteObjectClasses(const std::vector<cv::Mat>& objects,
 
 // The id images of `masks` (an empty Mat where a view has none).
 std::vector<cv::Mat> IdImages(const std::vector<InstanceMask>& masks);
+
+// The class of every instance of `masks`, per view (features/sparse_points.h).
+InstanceClasses InstanceClassesOf(const std::vector<InstanceMask>& masks);
 
 // `masks` with only the instances that are people (`people`) or only those
 // that are not: the others' pixels become background and leave the list. A
