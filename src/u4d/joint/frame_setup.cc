@@ -24,18 +24,35 @@ cv::Mat Resize(const cv::Mat& image, const Camera& working, int interpolation) {
 
 // Each view's objects' regions grow by their leave-one-out visual hull from
 // the other views' initial labels (hull_support.h); the map goes to E_sem.
+// An object without a pose claims the people's pixels (a box the detector
+// merged with its holder in this view); the pixels it takes there are no
+// colour sample of the person at t. An object whose region stays empty (not
+// in this view's labels, and not found in the people's) leaves the view.
 void AddHullSupport(const std::vector<Camera>& cameras, const HullSupportOptions& options,
                     std::vector<JointViewInput>* inputs) {
   std::vector<cv::Mat> labels;
   for (const JointViewInput& in : *inputs) labels.push_back(in.initial_labels);
   for (size_t v = 0; v < inputs->size(); ++v) {
     JointViewInput& in = (*inputs)[v];
+    std::vector<int> people;
+    for (const PersonPose& p : in.people) people.push_back(p.object_id);
     std::vector<HullObject> objects;
-    for (const JointObject& obj : in.objects)
-      objects.push_back({obj.id, obj.depth_near, obj.depth_far});
+    for (const JointObject& obj : in.objects) {
+      const bool posed = std::find(people.begin(), people.end(), obj.id) != people.end();
+      objects.push_back(
+          {obj.id, obj.depth_near, obj.depth_far, posed ? std::vector<int>{} : people});
+    }
     if (objects.empty()) continue;
     in.hull_support = HullSupport(cameras, labels, static_cast<int>(v), objects, options);
     for (JointObject& obj : in.objects) obj.region |= in.hull_support == obj.id;
+    std::erase_if(in.objects,
+                  [](const JointObject& obj) { return cv::countNonZero(obj.region) == 0; });
+    const cv::Mat claimed = (in.hull_support != 0) & (in.initial_labels != 0);
+    if (cv::countNonZero(claimed) > 0) {
+      LabelledImage& at_t = in.appearance_training.front();
+      at_t.labels = at_t.labels.clone();
+      at_t.labels.setTo(kUnsampledLabel, claimed);
+    }
     if (!options.colour_samples) continue;
     // E_a: the supported pixels are no background sample at t, and those well
     // inside the support are samples of their object.
@@ -272,7 +289,9 @@ std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
         JointObject obj;
         obj.id = id;
         obj.region = in.initial_labels == id;
-        if (cv::countNonZero(obj.region) == 0 || person_ids.count(id)) continue;
+        // Not in this view's labels, it may still be in the people's (AddHullSupport).
+        const bool may_be_merged = options.hull.enabled && !people.empty();
+        if ((cv::countNonZero(obj.region) == 0 && !may_be_merged) || person_ids.count(id)) continue;
         obj.depth_near = range.first;
         obj.depth_far = range.second;
         in.objects.push_back(obj);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
@@ -61,15 +62,26 @@ std::vector<Voter> VotersOf(const std::vector<Camera>& cameras, const std::vecto
   return voters;
 }
 
-// The rectangle of `ref`'s pixels searched for object `id` (empty when the
-// view has none of its pixels).
-cv::Rect SearchBox(const cv::Mat& ref_labels, int id) {
-  const cv::Mat own = ref_labels == id;
-  if (cv::countNonZero(own) == 0) return {};
-  const cv::Rect box = cv::boundingRect(own);
-  const int grow = static_cast<int>(std::ceil(kSearchShareOfHeight * box.height));
-  const cv::Rect grown(box.x - grow, box.y - grow, box.width + 2 * grow, box.height + 2 * grow);
-  return grown & cv::Rect(0, 0, ref_labels.cols, ref_labels.rows);
+// The rectangle of `ref`'s pixels searched for object `id`: around its own
+// pixels, and over the pixels of the labels it claims (empty when the view
+// has none of either).
+cv::Rect SearchBox(const cv::Mat& ref_labels, const HullObject& obj) {
+  cv::Rect out;
+  const cv::Mat own = ref_labels == obj.id;
+  if (cv::countNonZero(own) > 0) {
+    const cv::Rect box = cv::boundingRect(own);
+    const int grow = static_cast<int>(std::ceil(kSearchShareOfHeight * box.height));
+    out = cv::Rect(box.x - grow, box.y - grow, box.width + 2 * grow, box.height + 2 * grow);
+  }
+  for (const int claim : obj.claims) {
+    const cv::Mat claimed = ref_labels == claim;
+    if (cv::countNonZero(claimed) > 0) out |= cv::boundingRect(claimed);
+  }
+  return out & cv::Rect(0, 0, ref_labels.cols, ref_labels.rows);
+}
+
+bool Claims(const HullObject& obj, int label) {
+  return std::find(obj.claims.begin(), obj.claims.end(), label) != obj.claims.end();
 }
 
 }  // namespace
@@ -112,7 +124,7 @@ cv::Mat HullSupport(const std::vector<Camera>& cameras, const std::vector<cv::Ma
               obj.depth_far);
     const std::vector<Voter> voters =
         VotersOf(cameras, labels, ref, obj.id, options.mask_tolerance_px);
-    const cv::Rect box = SearchBox(own, obj.id);
+    const cv::Rect box = SearchBox(own, obj);
     if (static_cast<int>(voters.size()) < options.min_views || box.empty()) continue;
     const int gx0 = static_cast<int>(box.x * f), gx1 = static_cast<int>(box.br().x * f);
     const int gy0 = static_cast<int>(box.y * f), gy1 = static_cast<int>(box.br().y * f);
@@ -121,7 +133,8 @@ cv::Mat HullSupport(const std::vector<Camera>& cameras, const std::vector<cv::Ma
         const Eigen::Vector2d pixel((gx + 0.5) / f - 0.5, (gy + 0.5) / f - 0.5);
         const int x = std::clamp(static_cast<int>(std::lround(pixel.x())), 0, cam.width - 1);
         const int y = std::clamp(static_cast<int>(std::lround(pixel.y())), 0, cam.height - 1);
-        if (own.at<uint16_t>(y, x) != 0) continue;  // only the view's background is tested
+        // Only the view's background and the object's claims are tested.
+        if (const int label = own.at<uint16_t>(y, x); label != 0 && !Claims(obj, label)) continue;
         // The ray's point at depth z is centre + z * step (undistorted once per ray).
         const Eigen::Vector3d centre = cam.Center();
         const Eigen::Vector3d step = cam.Unproject(pixel, 1.0) - centre;
@@ -139,7 +152,15 @@ cv::Mat HullSupport(const std::vector<Camera>& cameras, const std::vector<cv::Ma
   }
   cv::Mat full = support;
   if (support.size() != own.size()) cv::resize(support, full, own.size(), 0, 0, cv::INTER_NEAREST);
-  full.setTo(0, own != 0);  // the view's own labels stand
+  // The view's own labels stand, but where claimed.
+  std::map<int, const HullObject*> by_id;
+  for (const HullObject& obj : objects) by_id[obj.id] = &obj;
+  for (int y = 0; y < full.rows; ++y)
+    for (int x = 0; x < full.cols; ++x) {
+      uint16_t& o = full.at<uint16_t>(y, x);
+      const int label = own.at<uint16_t>(y, x);
+      if (o != 0 && label != 0 && !Claims(*by_id.at(o), label)) o = 0;
+    }
   return full;
 }
 

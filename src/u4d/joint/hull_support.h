@@ -14,12 +14,18 @@
 //     `mask_tolerance_px`).
 // The paper restores missing limbs by dilating towards the 3D joints; this is
 // the same role when no pose is given, and an addition to the capsules when
-// one is (frame_setup.h). Only pixels that v's labels put on the background
-// are tested (and the map is 0 on the others); a pixel supported by several objects takes the
-// nearest one. The map widens the solve's region and relaxes E_sem there (the detector's
-// "background" at p is contradicted by the other views: E_sem does not
-// prefer it over o; with colour_samples E_a's colour models sample it as o,
-// not as the background: frame_setup.cc), so E_a, E_c and E_d decide the label.
+// one is (frame_setup.h). Only pixels that v's labels put on the background,
+// or on one of the object's `claims`, are tested (and the map is 0 on the
+// others); a pixel supported by several objects takes the nearest one. The
+// claims are the people, for an object without a pose: a detector merges a
+// box with the person holding it in some views, and there the box's pixels
+// carry the person's label. The map widens the solve's region and relaxes
+// E_sem there (the detector's background, or the claimed person, at p is
+// contradicted by the other views: E_sem does not prefer it over o; the
+// claimed pixels are no colour sample of the person, and with colour_samples
+// E_a's colour models sample the supported pixels as o, not as the
+// background: frame_setup.cc), so E_a, E_c, E_d and the person's E_p decide
+// the label.
 #pragma once
 
 #include <vector>
@@ -48,6 +54,7 @@ struct HullSupportOptions {
 struct HullObject {
   int id = 0;                            // >= 1, the label in every view's `labels`
   double depth_near = 0, depth_far = 0;  // metres, 0 < near < far
+  std::vector<int> claims;               // labels of the view it may take (above)
 };
 
 // The support map of view `ref` (CV_16U, the labels' size: an object id, 0 =

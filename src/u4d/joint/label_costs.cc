@@ -402,9 +402,10 @@ void RelaxSemanticCosts(const cv::Mat& initial_labels, const cv::Mat& support,
   const size_t n = static_cast<size_t>(w) * h;
   for (size_t p = 0; p < n; ++p) {
     const int o = support.ptr<uint16_t>()[p];
-    if (o == 0 || o >= semantic->num_labels || initial_labels.ptr<uint16_t>()[p] != 0) continue;
+    const int initial = initial_labels.ptr<uint16_t>()[p];
+    if (o == 0 || o >= semantic->num_labels || initial >= semantic->num_labels) continue;
     float& cost = semantic->cost[o * n + p];
-    cost = std::min(cost, semantic->cost[p]);
+    cost = std::min(cost, semantic->cost[initial * n + p]);
   }
 }
 

@@ -106,11 +106,11 @@ LabelCostVolume SemanticCosts(const cv::Mat& initial_labels, int num_labels,
 LabelCostVolume SemanticCosts(const std::vector<cv::Mat>& label_maps, int num_labels,
                               const LabelCostOptions& options = {});
 
-// E_sem where the other views contradict the detector's background: at each
-// pixel whose `initial_labels` is 0 and whose `support` (CV_16U, hull_support.h)
-// names an object o in [1, num_labels), o's cost is lowered to the
-// background's, so E_sem prefers neither and E_a, E_c, E_d decide. Throws on
-// a size or type mismatch.
+// E_sem where the other views contradict the detector: at each pixel whose
+// `support` (CV_16U, hull_support.h: the view's background, or a person the
+// object claims) names an object o in [1, num_labels), o's cost is lowered to
+// that of the pixel's `initial_labels` label, so E_sem prefers neither and
+// E_a, E_c, E_d (and E_p) decide. Throws on a size or type mismatch.
 void RelaxSemanticCosts(const cv::Mat& initial_labels, const cv::Mat& support,
                         LabelCostVolume* semantic);
 
