@@ -4,13 +4,16 @@
 // When <dir> is a scene written by `u4d run`, the vertex drift of its
 // segments (eval/segment_drift.h) is added. `--se-baselines deepflow,dis`
 // adds S_e of the GT masks carried by OpenCV flows on the capture's images
-// (eval/baseline_overlap.h), beside the prediction's.
+// (eval/baseline_overlap.h), beside the prediction's. `--grabcut` evaluates
+// the segmentation baseline, GrabCut seeded with the initial masks
+// (eval/baseline_grabcut.h), written to <capture>/baselines/grabcut/.
 #include <memory>
 
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
 #include "apps/commands.h"
+#include "u4d/eval/baseline_grabcut.h"
 #include "u4d/eval/baseline_overlap.h"
 #include "u4d/eval/evaluate.h"
 #include "u4d/eval/segment_drift.h"
@@ -24,6 +27,7 @@ struct EvalArgs {
   std::string capture;
   std::string pred;
   bool initial = false;
+  bool grabcut = false;
   std::string output;
   int keyframe_interval = 10;
   std::vector<std::string> se_baselines;
@@ -40,6 +44,9 @@ Command MakeEvalCommand() {
                            "joints3d/, meshes/)");
             app.add_flag("--initial", args->initial,
                          "evaluate the capture's initial masks (masks/) as instance predictions");
+            app.add_flag("--grabcut", args->grabcut,
+                         "evaluate GrabCut seeded with the initial masks (the segmentation "
+                         "baseline), written to <capture>/baselines/grabcut/");
             app.add_option("-o,--output", args->output,
                            "eval.json to write (default: <pred>/eval.json, or "
                            "<capture>/eval_initial.json with --initial)");
@@ -52,11 +59,17 @@ Command MakeEvalCommand() {
                 ->delimiter(',');
           },
           [=] {
-            U4D_CHECK(args->initial != !args->pred.empty(),
-                      "give exactly one of --pred <dir> and --initial");
+            U4D_CHECK(int(args->initial) + int(args->grabcut) + int(!args->pred.empty()) == 1,
+                      "give exactly one of --pred <dir>, --initial and --grabcut");
             eval::EvalInput input;
             input.capture = args->capture;
             input.pred = args->pred;
+            if (args->grabcut) {
+              input.pred = input.capture / "baselines/grabcut";
+              const int n = eval::WriteGrabCutPrediction(ReadCapture(input.capture), input.pred);
+              fmt::print("GrabCut of the initial masks: {} view-frames in {}\n", n,
+                         input.pred.string());
+            }
             input.initial_masks = args->initial;
             eval::EvalOptions options;
             options.keyframe_interval = args->keyframe_interval;
