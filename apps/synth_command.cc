@@ -31,6 +31,7 @@ struct SynthArgs {
   bool keyed = false;
   bool force = false;
   int start_frame = -1;
+  std::vector<std::string> props;
 };
 
 }  // namespace
@@ -149,6 +150,10 @@ Command MakeSynthCommand() {
                            "first script frame of the capture (-1: the window centred on the "
                            "first handshake)")
                 ->capture_default_str();
+            app.add_option("--props", a->props,
+                           "objects the procedural people hold, the i-th by person i's left "
+                           "hand: box | ball (default: the preset's; synth/props.h)")
+                ->delimiter(',');
           },
           [=] {
             PrepareSynthOutput(a->out, a->force);
@@ -160,6 +165,7 @@ Command MakeSynthCommand() {
             o.still_people = a->still;
             if (a->keyed) UseKeyedStage(&o);
             o.start_frame = a->start_frame;
+            if (!a->props.empty()) o.props = synth::PropsFromNames(a->props);
             PrintSynthSummary(synth::WriteSyntheticCapture(o, a->out, /*progress=*/true), a->out);
             return 0;
           }};

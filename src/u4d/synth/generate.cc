@@ -86,15 +86,7 @@ SynthOptions SynthPreset(const std::string& preset) {
     o.rig.bob_amplitude = 0.1;
   } else if (preset == "objects") {
     o.environment.indoor = true;
-    PropOptions box;
-    box.holder = 0;
-    box.seed = 11;
-    PropOptions ball;
-    ball.kind = PropOptions::Kind::kDribbledBall;
-    ball.holder = 1;
-    ball.size = {0.24, 0.24, 0.24};
-    ball.seed = 12;
-    o.props = {box, ball};
+    o.props = PropsFromNames({"box", "ball"});
   } else if (IsRealistic(preset)) {
     SetRealistic(&o);
     if (preset == "realistic-moving") {

@@ -140,6 +140,22 @@ void PropOptions::Check() const {
             Label());
 }
 
+std::vector<PropOptions> PropsFromNames(const std::vector<std::string>& names) {
+  std::vector<PropOptions> out;
+  for (const std::string& name : names) {
+    U4D_CHECK(name == "box" || name == "ball", "synth: unknown prop '{}' (known: box, ball)", name);
+    PropOptions o;
+    o.holder = static_cast<int>(out.size());
+    o.seed = 11 + static_cast<uint32_t>(out.size());
+    if (name == "ball") {
+      o.kind = PropOptions::Kind::kDribbledBall;
+      o.size = {0.24, 0.24, 0.24};
+    }
+    out.push_back(o);
+  }
+  return out;
+}
+
 std::vector<SceneObject> PoseProps(const std::vector<PropOptions>& props, const SceneFrame& frame,
                                    int first_id) {
   std::vector<SceneObject> out;

@@ -38,6 +38,10 @@ struct PropOptions {
   void Check() const;  // throws u4d::Error on a bad size, period or holder
 };
 
+// Props by name ("box" or "ball"): the i-th held by person i's left hand,
+// with the objects preset's sizes. Throws u4d::Error naming an unknown name.
+std::vector<PropOptions> PropsFromNames(const std::vector<std::string>& names);
+
 // The props of `frame` (whose people and joints are posed), with instance
 // ids first_id, first_id + 1, ... in `props` order. Throws when a holder has
 // no skeleton in the frame.

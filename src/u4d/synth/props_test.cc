@@ -121,6 +121,12 @@ TEST(Props, HoldersNeedASkeleton) {
   o = Ball();
   o.label = "person";
   EXPECT_THROW(o.Check(), Error);
+  EXPECT_THROW(PropsFromNames({"box", "chair"}), Error);
+  const std::vector<PropOptions> named = PropsFromNames({"ball", "box"});
+  ASSERT_EQ(named.size(), 2u);
+  EXPECT_EQ(named[0].Label(), "ball");
+  EXPECT_EQ(named[1].Label(), "box");
+  EXPECT_EQ(named[1].holder, 1);
 }
 
 // The objects preset, small: the GT of every view-frame names the classes of
