@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string_view>
+#include <vector>
 
 #include <fmt/format.h>
 #include <opencv2/core.hpp>
@@ -76,11 +77,44 @@ void CheckSingleYamlDocument(const fs::path& path, const std::string& what) {
   }
 }
 
+// OpenCV's YAML parser (4.6) also loops forever on a line indented less
+// than the block it closes but more than the block around that ("  dt: d"
+// then " abc-x"): the line belongs to no block, which YAML does not allow
+// either. Each line must be indented deeper than the open block (a child)
+// or exactly as one of the enclosing blocks.
+void CheckYamlIndentation(const fs::path& path, const std::string& what) {
+  const std::string text = ReadTextFile(path);
+  const size_t first = text.find_first_not_of(" \t\r\n");
+  if (first == std::string::npos || text[first] == '<' || text[first] == '{') return;
+  std::vector<size_t> open = {0};  // indentation of the enclosing blocks
+  int line_number = 0;
+  for (size_t start = 0; start < text.size(); ++line_number) {
+    const size_t end = std::min(text.find('\n', start), text.size());
+    const std::string_view line(text.data() + start, end - start);
+    start = end + 1;
+    if (BlankOrComment(line) || line[0] == '%') continue;
+    const size_t indent = line.find_first_not_of(' ');
+    bool closed = false;
+    while (open.size() > 1 && indent < open.back()) {
+      open.pop_back();
+      closed = true;
+    }
+    if (indent > open.back()) {
+      U4D_CHECK(!closed,
+                "{}:{}: indented by {} spaces, as no enclosing block of the YAML ({}): a line "
+                "that ends a block must line up with an outer one",
+                path.string(), line_number + 1, indent, what);
+      open.push_back(indent);
+    }
+  }
+}
+
 }  // namespace
 
 cv::FileStorage OpenFileStorage(const fs::path& path, const std::string& what) {
   CheckFileExists(path, what);
   CheckSingleYamlDocument(path, what);
+  CheckYamlIndentation(path, what);
   cv::FileStorage storage;
   try {
     storage.open(path.string(), cv::FileStorage::READ);

@@ -234,6 +234,24 @@ TEST(ImportOpenCv, OnlyOneYamlDocumentReachesOpenCvsParser) {
   }
 }
 
+// Nor on a line that ends a block but lines up with no outer one (the
+// fuzzer's input, io/file_storage.cc); the indentation OpenCV writes, with
+// matrices and a flow sequence over several lines, reads.
+TEST(ImportOpenCv, ALineBetweenTwoBlocksNeverReachesOpenCvsParser) {
+  const fs::path dir = test_util::FreshTestDir("import_opencv", "yaml_indent");
+  const fs::path bad = dir / "bad.yml";
+  WriteTextFileAtomic(bad, "%YAML:1.0\nK:\n  dt: d\n abc-x\n");
+  ExpectErrorMentions([&] { ReadOpenCvCalibration(bad, 1); }, {bad.string() + ":4", "indented"});
+  const fs::path good = dir / "good.yml";
+  WriteTextFileAtomic(good,
+                      "%YAML:1.0\n---\nK: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+                      "   data: [ 100., 0., 32., 0., 100.,\n       24., 0., 0., 1. ]\n"
+                      "rvec: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n"
+                      "   data: [ 0., 0., 0. ]\ntvec: !!opencv-matrix\n   rows: 3\n   cols: 1\n"
+                      "   dt: d\n   data: [ 1., 2., 3. ]\nnames:\n  - \"a\"\n");
+  EXPECT_EQ(ReadOpenCvCalibration(good, 1).size(), 1u);
+}
+
 TEST(ImportOpenCv, BadFilesNameTheFileAndKey) {
   const fs::path dir = test_util::FreshTestDir("import_opencv", "bad");
   const Camera cam = RingCameras(1, 64, 48)[0];
