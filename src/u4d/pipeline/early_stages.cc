@@ -66,7 +66,8 @@ std::vector<std::optional<PeoplePositions>> NextFramePeople(RunContext& c) {
     const int first = shot_first;  // a variable, not a binding: lambdas capture it (C++17)
     const auto shot = PeopleFromTheNextFrame(shot_last - first, [&](int k, PeoplePositions start) {
       const int f = first + k;
-      GroundPeopleFromDetections(c.Cameras(f), IdImages(ReadGivenMasks(c, f)), c.o.init, &start);
+      GroundPeopleFromDetections(c.Cameras(f), IdImages(KeepInstances(ReadGivenMasks(c, f), true)),
+                                 c.o.init, &start);
       return start;
     });
     hints.insert(hints.end(), shot.begin(), shot.end());
@@ -137,6 +138,10 @@ int ComputeInitialObjects(RunContext& c, const std::vector<std::vector<Pose3d>>&
   }
   ObjectLinker linker;  // with poses it names the objects that are not people, after them
   linker.options = c.o.link;
+  // Without poses the people come from the ground step and the objects of
+  // other classes are named apart, from one counter of ids.
+  ObjectLinker others_linker;
+  others_linker.options = c.o.link;
   for (const auto& frame : poses)
     for (const Pose3d& p : frame) linker.next_id = std::max(linker.next_id, p.person_id + 1);
   // The ground-plane step (init.h step 6) names people alike in every
@@ -153,6 +158,7 @@ int ComputeInitialObjects(RunContext& c, const std::vector<std::vector<Pose3d>>&
     const int f = c.f0 + k;
     if (!c.Continues(f)) {  // after a cut the previous people say nothing
       linker.tracks.clear();
+      others_linker.tracks.clear();
       ground_people.clear();
     }
     if (next_people[k]) ground_people = *next_people[k];
@@ -163,7 +169,12 @@ int ComputeInitialObjects(RunContext& c, const std::vector<std::vector<Pose3d>>&
     std::vector<cv::Mat> masks = IdImages(given);
     if (c.masks == MaskSource::kUnsupervised)
       masks = UnsupervisedInstanceMasks(cams, images, backgrounds, c.o.init, keys);
-    if (given_on_ground) masks = GroundPeopleFromDetections(cams, masks, c.o.init, &ground_people);
+    // The ground step names the people; given instances of other classes
+    // join after it (WithOtherObjects).
+    if (given_on_ground)
+      masks = GroundPeopleFromDetections(cams, IdImages(KeepInstances(given, true)), c.o.init,
+                                         &ground_people);
+    linker.next_id = std::max(linker.next_id, others_linker.next_id);
     // With poses, instances that are not people become objects without a
     // pose. The detector's classes keep objects of different classes apart
     // where the masks are its own (not renamed by the ground step).
@@ -177,6 +188,12 @@ int ComputeInitialObjects(RunContext& c, const std::vector<std::vector<Pose3d>>&
                               cams, images, IdImages(KeepInstances(given, true)),
                               IdImages(KeepInstances(given, false)), poses[k], c.o.frame_setup,
                               c.o.sparse, c.o.regions, &linker, given_classes);
+    if (given_on_ground) {
+      others_linker.next_id = linker.next_id;
+      objects = WithOtherObjects(std::move(objects), cams, images, masks,
+                                 IdImages(KeepInstances(given, false)), c.o.sparse, c.o.regions,
+                                 &others_linker, &classes);
+    }
     if (!given.empty()) objects.class_votes = VoteObjectClasses(objects.ids, given);
     WriteFrameObjects(c.out, c.names, f, objects);
     bool any = false;

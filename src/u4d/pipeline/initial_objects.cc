@@ -311,29 +311,43 @@ FrameObjects ObjectsFromSparse(const std::vector<Camera>& cameras,
   return out;
 }
 
-FrameObjects ObjectsFromPosesAndOthers(
-    const std::vector<Camera>& cameras, const std::vector<cv::Mat>& images,
-    const std::vector<cv::Mat>& people_masks, const std::vector<cv::Mat>& other_masks,
-    const std::vector<Pose3d>& poses, const FrameSetupOptions& frame_options,
-    const SparseFrameOptions& sparse_options, const ObjectRegionOptions& region_options,
-    ObjectLinker* linker, const InstanceClasses* other_classes) {
-  FrameObjects out = ObjectsFromPoses(cameras, people_masks, poses, frame_options);
+FrameObjects WithOtherObjects(FrameObjects people, const std::vector<Camera>& cameras,
+                              const std::vector<cv::Mat>& images,
+                              const std::vector<cv::Mat>& people_masks,
+                              const std::vector<cv::Mat>& other_masks,
+                              const SparseFrameOptions& sparse_options,
+                              const ObjectRegionOptions& region_options, ObjectLinker* linker,
+                              const InstanceClasses* other_classes) {
   const bool any_other = std::any_of(other_masks.begin(), other_masks.end(), [](const cv::Mat& m) {
     return !m.empty() && cv::countNonZero(m) > 0;
   });
-  if (!any_other) return out;
+  if (!any_other) return people;
   const FrameObjects others =
       ObjectsFromSparse(cameras, images, other_masks, sparse_options, region_options, linker,
                         /*ids_alike_across_views=*/false, {other_classes, &people_masks});
-  out.centroids = others.centroids;
-  out.num_sparse_points = others.num_sparse_points;
-  out.depth_ranges = others.depth_ranges;
+  FrameObjects out = std::move(people);
+  for (const auto& [id, c] : others.centroids) out.centroids[id] = c;
+  out.num_sparse_points += others.num_sparse_points;
+  out.depth_ranges.resize(std::max(out.depth_ranges.size(), others.depth_ranges.size()));
+  for (size_t v = 0; v < others.depth_ranges.size(); ++v)
+    for (const auto& [id, r] : others.depth_ranges[v]) out.depth_ranges[v][id] = r;
   for (size_t v = 0; v < out.ids.size(); ++v) {
     if (others.ids[v].empty() || cv::countNonZero(others.ids[v]) == 0) continue;
     if (out.ids[v].empty()) out.ids[v] = cv::Mat::zeros(others.ids[v].size(), CV_16U);
     others.ids[v].copyTo(out.ids[v], out.ids[v] == 0);
   }
   return out;
+}
+
+FrameObjects ObjectsFromPosesAndOthers(
+    const std::vector<Camera>& cameras, const std::vector<cv::Mat>& images,
+    const std::vector<cv::Mat>& people_masks, const std::vector<cv::Mat>& other_masks,
+    const std::vector<Pose3d>& poses, const FrameSetupOptions& frame_options,
+    const SparseFrameOptions& sparse_options, const ObjectRegionOptions& region_options,
+    ObjectLinker* linker, const InstanceClasses* other_classes) {
+  return WithOtherObjects(ObjectsFromPoses(cameras, people_masks, poses, frame_options), cameras,
+                          images, people_masks, other_masks, sparse_options, region_options, linker,
+                          other_classes);
 }
 
 void WriteFrameObjects(const fs::path& out, const std::vector<std::string>& view_names, int frame,

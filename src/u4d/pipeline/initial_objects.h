@@ -141,6 +141,19 @@ FrameObjects ObjectsFromPoses(const std::vector<Camera>& cameras, const std::vec
 // people's masks are where the views cannot tell (DetectorContext). Where
 // both claim a pixel the person keeps it. `other_masks` without any instance
 // pixel give exactly ObjectsFromPoses.
+// `people` (the frame's people, from poses or the ground step) with the
+// objects of `other_masks` added as ObjectsFromPosesAndOthers adds them
+// (ids from `linker`, which the caller keeps apart from the people's ids;
+// `people_masks` are where the views cannot tell). Without any other
+// instance pixel, `people` unchanged.
+FrameObjects WithOtherObjects(FrameObjects people, const std::vector<Camera>& cameras,
+                              const std::vector<cv::Mat>& images,
+                              const std::vector<cv::Mat>& people_masks,
+                              const std::vector<cv::Mat>& other_masks,
+                              const SparseFrameOptions& sparse_options,
+                              const ObjectRegionOptions& region_options, ObjectLinker* linker,
+                              const InstanceClasses* other_classes);
+
 FrameObjects ObjectsFromPosesAndOthers(
     const std::vector<Camera>& cameras, const std::vector<cv::Mat>& images,
     const std::vector<cv::Mat>& people_masks, const std::vector<cv::Mat>& other_masks,

@@ -161,6 +161,31 @@ TEST(ObjectsFromSparseTest, AnObjectMergedWithItsHolderInHalfTheViewsIsFound) {
   EXPECT_GE(ball, 0.8 * ball_pixels);
   EXPECT_EQ(box, 0);
   EXPECT_GE(ranges_where_merged, static_cast<int>(gts.size() / 2) - 1);
+
+  // The same objects added to the people (ids 1 and 2, with their depth
+  // ranges): the people keep every pixel and range, the objects take ids
+  // after theirs and the pixels the people leave.
+  FrameObjects with_people;
+  with_people.ids = people;
+  with_people.depth_ranges.assign(people.size(), {{1, {3.0, 6.0}}, {2, {3.0, 6.0}}});
+  ObjectLinker linker;
+  linker.next_id = 3;
+  const FrameObjects all =
+      WithOtherObjects(with_people, cameras, images, people, objects, SparseFrameOptions{},
+                       ObjectRegionOptions{}, &linker, &classes);
+  for (size_t v = 0; v < people.size(); ++v) {
+    EXPECT_EQ(cv::countNonZero((all.ids[v] != people[v]) & (people[v] != 0)), 0) << v;
+    EXPECT_EQ(all.depth_ranges[v].count(1) + all.depth_ranges[v].count(2), 2u) << v;
+    EXPECT_EQ(cv::countNonZero((all.ids[v] > 0) & (all.ids[v] < 3) & (people[v] == 0)), 0) << v;
+  }
+  EXPECT_EQ(all.centroids.size(), found.centroids.size());
+  // Without other instances, the people unchanged.
+  const std::vector<cv::Mat> none(objects.size(), cv::Mat());
+  const FrameObjects alone =
+      WithOtherObjects(with_people, cameras, images, people, none, SparseFrameOptions{},
+                       ObjectRegionOptions{}, &linker, &classes);
+  EXPECT_EQ(alone.centroids.size(), 0u);
+  EXPECT_EQ(cv::countNonZero(alone.ids[0] != people[0]), 0);
 }
 
 }  // namespace
