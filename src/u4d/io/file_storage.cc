@@ -1,6 +1,7 @@
 #include "u4d/io/file_storage.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <string_view>
 #include <vector>
@@ -77,36 +78,83 @@ void CheckSingleYamlDocument(const fs::path& path, const std::string& what) {
   }
 }
 
-// OpenCV's YAML parser (4.6) also loops forever on a line indented less
-// than the block it closes but more than the block around that ("  dt: d"
-// then " abc-x"): the line belongs to no block, which YAML does not allow
-// either. Each line must be indented deeper than the open block (a child)
-// or exactly as one of the enclosing blocks.
-void CheckYamlIndentation(const fs::path& path, const std::string& what) {
+// A byte no text file of these holds: a control character (but tab and
+// carriage return), DEL, or a byte never found in UTF-8.
+bool ForeignByte(unsigned char c) {
+  return (c < 0x20 && c != '\t' && c != '\r') || c == 0x7f || c == 0xc0 || c == 0xc1 || c >= 0xf5;
+}
+
+// Whether `content` (a line without its indentation, outside a flow
+// sequence) is "- item" or "key: value" with a plain key.
+bool ItemOrKeyLine(std::string_view content) {
+  if (content == "-" || content.substr(0, 2) == "- ") return true;
+  const size_t colon = content.find(':');
+  if (colon == 0 || colon == std::string_view::npos) return false;
+  for (size_t i = 0; i < colon; ++i) {
+    const char c = content[i];
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.')
+      return false;
+  }
+  return colon + 1 == content.size() || content[colon + 1] == ' ';
+}
+
+// OpenCV's YAML parser (4.6) loops forever on more malformed input than the
+// multi-document kind: a line indented less than the block it closes but
+// more than the block around it ("  dt: d" then " abc-x"), a bare word on a
+// line of its own, stray bytes. The files read here are what
+// cv::FileStorage and the tools like it write, so only that subset of YAML
+// reaches the parser: text without foreign bytes; each line "key: value"
+// with a plain key, "- item", or the continuation of a [ ] sequence opened
+// above; each line indented deeper than the open block or exactly as one
+// of the enclosing blocks.
+void CheckYamlLines(const fs::path& path, const std::string& what) {
   const std::string text = ReadTextFile(path);
   const size_t first = text.find_first_not_of(" \t\r\n");
   if (first == std::string::npos || text[first] == '<' || text[first] == '{') return;
   std::vector<size_t> open = {0};  // indentation of the enclosing blocks
+  int depth = 0;                   // open '[' and '{' of a flow sequence
   int line_number = 0;
   for (size_t start = 0; start < text.size(); ++line_number) {
     const size_t end = std::min(text.find('\n', start), text.size());
     const std::string_view line(text.data() + start, end - start);
     start = end + 1;
-    if (BlankOrComment(line) || line[0] == '%') continue;
+    const auto refuse = [&](const std::string& why) {
+      ThrowError(fmt::format("{}:{}: {} ({}): only the YAML that cv::FileStorage writes is read",
+                             path.string(), line_number + 1, why, what));
+    };
+    for (const char c : line)
+      if (ForeignByte(static_cast<unsigned char>(c))) refuse("a control or non-text byte");
+    if (BlankOrComment(line) || line[0] == '%' || line.substr(0, 3) == "---" ||
+        line.substr(0, 3) == "...")
+      continue;
     const size_t indent = line.find_first_not_of(' ');
-    bool closed = false;
-    while (open.size() > 1 && indent < open.back()) {
-      open.pop_back();
-      closed = true;
+    if (depth == 0) {
+      if (!ItemOrKeyLine(line.substr(indent)))
+        refuse("neither 'key: value' nor '- item' nor inside a [ ] sequence");
+      bool closed = false;
+      while (open.size() > 1 && indent < open.back()) {
+        open.pop_back();
+        closed = true;
+      }
+      if (indent > open.back()) {
+        if (closed)
+          refuse(
+              "indented as no enclosing block: a line that ends a block must line up "
+              "with an outer one");
+        open.push_back(indent);
+      }
     }
-    if (indent > open.back()) {
-      U4D_CHECK(!closed,
-                "{}:{}: indented by {} spaces, as no enclosing block of the YAML ({}): a line "
-                "that ends a block must line up with an outer one",
-                path.string(), line_number + 1, indent, what);
-      open.push_back(indent);
+    bool quoted = false;
+    for (const char c : line) {
+      if (c == '"') quoted = !quoted;
+      if (quoted) continue;
+      if (c == '#') break;
+      if (c == '[' || c == '{') ++depth;
+      if ((c == ']' || c == '}') && --depth < 0) refuse("a ']' or '}' that closes nothing");
     }
   }
+  if (depth != 0)
+    ThrowError(fmt::format("{}: a [ ] sequence is not closed ({})", path.string(), what));
 }
 
 }  // namespace
@@ -114,7 +162,7 @@ void CheckYamlIndentation(const fs::path& path, const std::string& what) {
 cv::FileStorage OpenFileStorage(const fs::path& path, const std::string& what) {
   CheckFileExists(path, what);
   CheckSingleYamlDocument(path, what);
-  CheckYamlIndentation(path, what);
+  CheckYamlLines(path, what);
   cv::FileStorage storage;
   try {
     storage.open(path.string(), cv::FileStorage::READ);
