@@ -154,7 +154,9 @@ void CheckYamlLines(const fs::path& path, const std::string& what) {
     }
   }
   if (depth != 0)
-    ThrowError(fmt::format("{}: a [ ] sequence is not closed ({})", path.string(), what));
+    ThrowError(fmt::format(
+        "{}: a [ ] sequence is not closed ({}): only the YAML that cv::FileStorage writes is read",
+        path.string(), what));
 }
 
 }  // namespace

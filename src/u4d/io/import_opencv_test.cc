@@ -208,6 +208,18 @@ TEST(ImportOpenCv, RealPanopticCalibrationRoundTrip) {
   }
 }
 
+// Writes each (text, reason) of `bad` to a file in `dir` and expects reading
+// it as a calibration to fail naming the file, the reason and `rule`.
+void ExpectYamlRefused(const fs::path& dir,
+                       const std::vector<std::pair<std::string, std::string>>& bad,
+                       const std::string& rule) {
+  for (size_t i = 0; i < bad.size(); ++i) {
+    const fs::path p = dir / ("bad" + std::to_string(i) + ".yml");
+    WriteTextFileAtomic(p, bad[i].first);
+    ExpectErrorMentions([&] { ReadOpenCvCalibration(p, 1); }, {p.string(), bad[i].second, rule});
+  }
+}
+
 // OpenCV's YAML parser never returns on these (multi-document input, see
 // io/file_storage.cc); they are refused, naming the file and the line, and a
 // file as cv::FileStorage writes it ('%YAML:1.0', '---', one document) reads.
@@ -226,12 +238,7 @@ TEST(ImportOpenCv, OnlyOneYamlDocumentReachesOpenCvsParser) {
       {"%YAML:1.0\n---%YAML:1.0\n-\n--\nK: 1\n", "content on the '---' line"},
       {"%YAML:1.0\n---\nK: 1\n...\n-\n--\n", "content after the document's end"},
       {"%YAML:1.0\nK: 1\n---\n- 1\n", "a second document"}};
-  for (size_t i = 0; i < bad.size(); ++i) {
-    const fs::path p = dir / ("bad" + std::to_string(i) + ".yml");
-    WriteTextFileAtomic(p, bad[i].first);
-    ExpectErrorMentions([&] { ReadOpenCvCalibration(p, 1); },
-                        {p.string(), bad[i].second, "only one YAML document"});
-  }
+  ExpectYamlRefused(dir, bad, "only one YAML document");
 }
 
 // Nor on other malformed YAML the fuzzer found (io/file_storage.cc): only
@@ -245,11 +252,7 @@ TEST(ImportOpenCv, OnlyTheYamlOpenCvWritesReachesItsParser) {
       {"%YAML:1.0\nK: 1\nd: \xff\n", "non-text byte"},
       {"%YAML:1.0\nK: [ 1, 2\n", "not closed"},
       {"%YAML:1.0\nK: 1 ]\n", "closes nothing"}};
-  for (size_t i = 0; i < bad.size(); ++i) {
-    const fs::path p = dir / ("bad" + std::to_string(i) + ".yml");
-    WriteTextFileAtomic(p, bad[i].first);
-    ExpectErrorMentions([&] { ReadOpenCvCalibration(p, 1); }, {p.string(), bad[i].second});
-  }
+  ExpectYamlRefused(dir, bad, "only the YAML that cv::FileStorage writes");
   const fs::path good = dir / "good.yml";
   WriteTextFileAtomic(good,
                       "%YAML:1.0\n---\nK: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
