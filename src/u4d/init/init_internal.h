@@ -45,6 +45,23 @@ struct ReducedMasks {
 };
 ReducedMasks ReduceMasks(const std::vector<Camera>& cameras, const std::vector<cv::Mat>& masks,
                          int max_side, int dilation_px);
+// GrabCut's k-means draws from the thread's RNG, whose state depends on
+// what ran on that thread before: while one of these lives, the thread's
+// RNG has a fixed seed, so that a cut is reproducible; the caller's RNG
+// state comes back at the end of the scope.
+class FixedGrabCutSeed {
+ public:
+  FixedGrabCutSeed() : saved_(cv::theRNG()) { cv::theRNG() = cv::RNG(0x5eed); }
+  ~FixedGrabCutSeed() { cv::theRNG() = saved_; }
+  FixedGrabCutSeed(const FixedGrabCutSeed&) = delete;
+  FixedGrabCutSeed& operator=(const FixedGrabCutSeed&) = delete;
+
+ private:
+  cv::RNG saved_;
+};
+
+// Whether AddDetectedPeople fills boxes in a view with this foreground (box_fill).
+bool FillsBoxes(const cv::Mat& foreground, const InitOptions& options);
 // Sets components (8-connected, of a 0/255 mask) smaller than min_area to 0.
 void RemoveSmallComponents(cv::Mat& mask, double min_area);
 

@@ -112,6 +112,7 @@ void RefineWithGrabCut(const cv::Mat& image, cv::Mat& ids, int id, const InitOpt
   gc.setTo(cv::GC_BGD, others);
   if (cv::countNonZero(gc == cv::GC_BGD) == 0 || cv::countNonZero(eroded) == 0) return;
   cv::Mat bgd, fgd;
+  const FixedGrabCutSeed seed;
   cv::grabCut(img, gc, cv::Rect(), bgd, fgd, options.people.grabcut_iterations,
               cv::GC_INIT_WITH_MASK);
   cv::Mat fg = (gc == cv::GC_FGD) | (gc == cv::GC_PR_FGD), up;
@@ -209,6 +210,7 @@ cv::Mat AddDetectedPeople(const cv::Mat& image_bgr, const cv::Mat& foreground,
     cv::Mat bgd, fgd;
     cv::grabCut(img, gc, cv::Rect(), bgd, fgd, options.people.grabcut_box_iterations,
                 cv::GC_INIT_WITH_MASK);
+    const FixedGrabCutSeed seed;
     cv::Mat res = (gc == cv::GC_FGD) | (gc == cv::GC_PR_FGD), up;
     cv::resize(res, up, roi.size(), 0, 0, cv::INTER_NEAREST);
     // Only inside the detector's box.

@@ -166,31 +166,30 @@ cv::Mat FillStillSubjects(const cv::Mat& image_bgr, const cv::Mat& foreground,
   cv::Mat learn_img(1, static_cast<int>(colours.size()), CV_8UC3, colours.data());
   cv::Mat learn_mask(1, static_cast<int>(labels_fb.size()), CV_8UC1, labels_fb.data());
   cv::Mat bgd_model, fgd_model;
-  // GrabCut's k-means draws from the thread's RNG: a fixed seed makes the
-  // result reproducible (the caller's RNG state is restored).
-  const cv::RNG saved = cv::theRNG();
-  cv::theRNG() = cv::RNG(0x5eed);
-  cv::grabCut(learn_img, learn_mask, cv::Rect(), bgd_model, fgd_model, 0, cv::GC_INIT_WITH_MASK);
-  // One graph cut with these models, then GrabCut's alternation (models
-  // re-learnt from the labels) for the remaining iterations.
-  cv::grabCut(image_roi, g, cv::Rect(), bgd_model, fgd_model, 1, cv::GC_EVAL_FREEZE_MODEL);
-  if (options.still.still_grabcut_iterations > 1)
-    cv::grabCut(image_roi, g, cv::Rect(), bgd_model, fgd_model,
-                options.still.still_grabcut_iterations - 1, cv::GC_EVAL);
   cv::Mat in_model;
-  if (options.still.still_require_model) {
-    // The same cut on the background model, with the final colour models:
-    // a subject can only be missing from step 2's foreground where the model
-    // itself shows the subject. Where it shows the empty scene (a good
-    // background, or a subject who walks) nothing is added.
-    cv::Mat gm = gc(roi).clone();
-    gm.setTo(cv::GC_PR_FGD, gm == cv::GC_FGD);
-    cv::Mat model_bgr;
-    cv::resize(background.bgr, model_bgr, sz, 0, 0, cv::INTER_AREA);
-    cv::grabCut(model_bgr(roi), gm, cv::Rect(), bgd_model, fgd_model, 1, cv::GC_EVAL_FREEZE_MODEL);
-    in_model = gm == cv::GC_PR_FGD;
+  {
+    const FixedGrabCutSeed seed;
+    cv::grabCut(learn_img, learn_mask, cv::Rect(), bgd_model, fgd_model, 0, cv::GC_INIT_WITH_MASK);
+    // One graph cut with these models, then GrabCut's alternation (models
+    // re-learnt from the labels) for the remaining iterations.
+    cv::grabCut(image_roi, g, cv::Rect(), bgd_model, fgd_model, 1, cv::GC_EVAL_FREEZE_MODEL);
+    if (options.still.still_grabcut_iterations > 1)
+      cv::grabCut(image_roi, g, cv::Rect(), bgd_model, fgd_model,
+                  options.still.still_grabcut_iterations - 1, cv::GC_EVAL);
+    if (options.still.still_require_model) {
+      // The same cut on the background model, with the final colour models:
+      // a subject can only be missing from step 2's foreground where the model
+      // itself shows the subject. Where it shows the empty scene (a good
+      // background, or a subject who walks) nothing is added.
+      cv::Mat gm = gc(roi).clone();
+      gm.setTo(cv::GC_PR_FGD, gm == cv::GC_FGD);
+      cv::Mat model_bgr;
+      cv::resize(background.bgr, model_bgr, sz, 0, 0, cv::INTER_AREA);
+      cv::grabCut(model_bgr(roi), gm, cv::Rect(), bgd_model, fgd_model, 1,
+                  cv::GC_EVAL_FREEZE_MODEL);
+      in_model = gm == cv::GC_PR_FGD;
+    }
   }
-  cv::theRNG() = saved;
   cv::Mat added = cv::Mat::zeros(sz, CV_8UC1);
   cv::Mat cut = (g == cv::GC_FGD) | (g == cv::GC_PR_FGD);
   if (!in_model.empty()) cut &= in_model;
