@@ -32,6 +32,37 @@ std::vector<cv::Mat> Instances(const std::vector<Camera>& cameras,
   return SplitAll(images, fg, boxes, options);
 }
 
+// Step 4b: when some view fills boxes, the boxes of the people that two
+// views' boxes (down to views_hog_threshold) place on the floor, plus each
+// view's own boxes whose centre none of those holds.
+std::vector<std::vector<PersonBox>> BoxesFromViews(const std::vector<Camera>& cameras,
+                                                   const std::vector<cv::Mat>& images,
+                                                   const std::vector<cv::Mat>& fg,
+                                                   const std::vector<std::vector<PersonBox>>& boxes,
+                                                   const InitOptions& options) {
+  const int nv = static_cast<int>(images.size());
+  bool fills = false;
+  for (int v = 0; v < nv; ++v) fills = fills || FillsBoxes(fg[v], options);
+  if (!options.people.boxes_from_views || cameras.size() < 2 || !fills) return boxes;
+  InitOptions low = options;
+  low.people.hog_threshold =
+      std::min(options.people.hog_threshold, options.people.views_hog_threshold);
+  std::vector<std::vector<PersonBox>> candidates(nv);
+  tbb::parallel_for(0, nv, [&](int v) { candidates[v] = DetectPeople(images[v], low); });
+  std::vector<std::vector<PersonBox>> out =
+      BoxesOfPeople(cameras, PeopleFromBoxes(cameras, candidates, options), options);
+  for (int v = 0; v < nv; ++v) {
+    const size_t confirmed = out[v].size();
+    for (const PersonBox& b : boxes[v]) {
+      const cv::Point centre(b.box.x + b.box.width / 2, b.box.y + b.box.height / 2);
+      bool held = false;
+      for (size_t k = 0; k < confirmed; ++k) held = held || out[v][k].box.contains(centre);
+      if (!held) out[v].push_back(b);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 bool UsesGroundOccupancy(const InitOptions& options, int num_cameras) {
@@ -97,6 +128,14 @@ void PeopleOptions::Check() const {
             "PeopleOptions.grabcut_box_iterations must be >= 1, found {}", grabcut_box_iterations);
   U4D_CHECK(grabcut_max_side >= 16, "PeopleOptions.grabcut_max_side must be >= 16, found {}",
             grabcut_max_side);
+  U4D_CHECK(foot_max_gap_m > 0, "PeopleOptions.foot_max_gap_m must be > 0, found {}",
+            foot_max_gap_m);
+  U4D_CHECK(floor_tolerance_m > 0, "PeopleOptions.floor_tolerance_m must be > 0, found {}",
+            floor_tolerance_m);
+  U4D_CHECK(person_radius_m > 0, "PeopleOptions.person_radius_m must be > 0, found {}",
+            person_radius_m);
+  U4D_CHECK(person_height_m > 0, "PeopleOptions.person_height_m must be > 0, found {}",
+            person_height_m);
 }
 
 void StillOptions::Check() const {
@@ -189,10 +228,11 @@ std::vector<cv::Mat> UnsupervisedInstanceMasks(const std::vector<Camera>& camera
   tbb::parallel_for(0, nv, [&](int v) {
     fg[v] = keyed(v) ? CleanMask(ChromaKeyMask(images_t[v], keys[v]), options)
                      : ForegroundMask(images_t[v], backgrounds[v], options);
-    if (options.people.use_hog) {
-      boxes[v] = DetectPeople(images_t[v], options);
-      fg[v] = AddDetectedPeople(images_t[v], fg[v], boxes[v], options);
-    }
+    if (options.people.use_hog) boxes[v] = DetectPeople(images_t[v], options);
+  });
+  if (options.people.use_hog) boxes = BoxesFromViews(cameras, images_t, fg, boxes, options);
+  tbb::parallel_for(0, nv, [&](int v) {
+    if (options.people.use_hog) fg[v] = AddDetectedPeople(images_t[v], fg[v], boxes[v], options);
     if (options.still.remove_ghosts && !keyed(v))
       fg[v] = RemoveGhosts(images_t[v], fg[v], backgrounds[v], options);
     if (options.still.still_grabcut_iterations > 0)

@@ -45,7 +45,9 @@
 //    still and are thus in the background model: by default (box_fill
 //    kEmptyViews) only in views where the background leaves less foreground
 //    than one instance (min_instance_fraction of the image), since where it finds people HOG's
-//    false boxes lower the IoU (docs/init.md); kAlways in every view, kNever not. OpenCV's HOG
+//    false boxes lower the IoU (docs/init.md); kAlways in every view, kNever not. Where boxes are
+//    filled and two or more calibrated views exist, the boxes are those of the people the views'
+//    boxes place on the floor (step 4b, PeopleFromBoxes below). OpenCV's HOG
 //    people detector (Dalal-Triggs, HOGDescriptor::getDefaultPeopleDetector, 64x128 windows; the
 //    image is upscaled so that people of min_person_height_px fit the window) gives boxes: a
 //    component holding two or more boxes whose centres are apart horizontally is split between them
@@ -199,11 +201,19 @@ struct PeopleOptions {
   enum class BoxFill { kNever, kEmptyViews, kAlways };
   BoxFill box_fill = BoxFill::kEmptyViews;  // kEmptyViews: views with < 1 instance of foreground
   int grabcut_box_iterations = 3;           // GrabCut iterations in such boxes (>= 1)
-  bool split_by_profile = true;             // split wide components at column-profile valleys
-  double profile_valley_ratio = 0.3;        // valley < this * the smaller neighbouring peak
-  double min_instance_fraction = 5e-4;      // instances smaller than this * area are dropped
-  int grabcut_iterations = 0;               // cv::grabCut iterations per instance; 0 = off
-  int grabcut_max_side = 200;               // instance box is downscaled to this side for GrabCut
+  // Step 4b: where boxes get GrabCut, boxes of people that two views' boxes
+  // place on the floor replace the single-view boxes (PeopleFromBoxes).
+  bool boxes_from_views = true;         // calibrated views confirm and complete boxes
+  double views_hog_threshold = -0.5;    // HOG threshold of the boxes other views confirm
+  double foot_max_gap_m = 0.2;          // two views' foot rays of one person pass this close
+  double floor_tolerance_m = 0.25;      // their meeting points are this close to the floor
+  double person_radius_m = 0.35;        // a person's cylinder (m): feet of one person
+  double person_height_m = 2.0;         // a person's cylinder height (m)
+  bool split_by_profile = true;         // split wide components at column-profile valleys
+  double profile_valley_ratio = 0.3;    // valley < this * the smaller neighbouring peak
+  double min_instance_fraction = 5e-4;  // instances smaller than this * area are dropped
+  int grabcut_iterations = 0;           // cv::grabCut iterations per instance; 0 = off
+  int grabcut_max_side = 400;           // instance box is downscaled to this side for GrabCut
 
   void Check() const;  // throws u4d::Error naming the offending field
 };
@@ -295,6 +305,36 @@ PeopleOptions::BoxFill BoxFillFromString(const std::string& name);
 // holds less than min_instance_fraction of the image.
 cv::Mat AddDetectedPeople(const cv::Mat& image_bgr, const cv::Mat& foreground,
                           const std::vector<PersonBox>& boxes, const InitOptions& options = {});
+
+// Step 4b (two or more calibrated views): people standing on the floor,
+// from the detector's boxes of all views. A box's foot point (its bottom
+// centre, raised by 1/16 of its height: HOG boxes hold a margin below the
+// feet, boxes that cut a person short have none) casts a ray; two rays of
+// different views that pass within foot_max_gap_m of each other, in front
+// of both cameras, meet at the feet of one person. The floor is the median
+// height (along RigUpDirection) of the meeting points; points farther than
+// floor_tolerance_m from it pair different people (the rays of two people
+// seen one behind the other from opposite sides cross below the floor) and
+// are dropped. The rest are projected onto the floor and clustered
+// greedily: the point with the most others within person_radius_m is a
+// person at their mean, those points are used up, and so on. One view's
+// false box meets another view's ray only by chance, so a box that no other
+// view confirms makes no person; a person one view's detector missed still
+// gets a box there (BoxesOfPeople). Throws when cameras and boxes differ in
+// number; no people for fewer than 2 views.
+struct FloorPerson {
+  Eigen::Vector3d foot = Eigen::Vector3d::Zero();  // world, on the floor
+  int num_views = 0;                               // views whose boxes meet there
+};
+std::vector<FloorPerson> PeopleFromBoxes(const std::vector<Camera>& cameras,
+                                         const std::vector<std::vector<PersonBox>>& boxes,
+                                         const InitOptions& options = {});
+// Per view, the box of each person whose feet it sees: the bounding box of
+// an upright cylinder of person_radius_m and person_height_m standing on
+// the foot point (score: FloorPerson::num_views), clipped to the image.
+std::vector<std::vector<PersonBox>> BoxesOfPeople(const std::vector<Camera>& cameras,
+                                                  const std::vector<FloorPerson>& people,
+                                                  const InitOptions& options = {});
 
 // Step 5a: ghosts out of the foreground. Where a subject stood in most of
 // the background's frames but no longer does, the uncovered background

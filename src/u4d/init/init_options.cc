@@ -65,6 +65,16 @@ void DeclareOptions(OptionRegistry& r, PeopleOptions* o) {
             "leaves less than one instance of foreground, or always");
   r.Add("grabcut_box_iterations", &o->grabcut_box_iterations,
         "GrabCut iterations in those boxes (>= 1)");
+  r.Add("boxes_from_views", &o->boxes_from_views,
+        "where boxes get GrabCut, boxes of people that two calibrated views' boxes place on the "
+        "floor replace the single-view boxes");
+  r.Add("views_hog_threshold", &o->views_hog_threshold,
+        "HOG threshold of the boxes other views confirm");
+  r.Add("foot_max_gap_m", &o->foot_max_gap_m, "two views' foot rays of one person pass this close");
+  r.Add("floor_tolerance_m", &o->floor_tolerance_m,
+        "their meeting points are this close to the floor");
+  r.Add("person_radius_m", &o->person_radius_m, "a person's cylinder (m): feet of one person");
+  r.Add("person_height_m", &o->person_height_m, "a person's cylinder height (m)");
   r.Add("split_by_profile", &o->split_by_profile,
         "split wide components at column-profile valleys");
   r.Add("profile_valley_ratio", &o->profile_valley_ratio,

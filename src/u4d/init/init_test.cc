@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <functional>
 #include <map>
+#include <memory>
 #include <set>
 #include <string>
 
@@ -273,20 +274,35 @@ TEST(InitTest, StillPeopleAgainstACleanPlate) {
 // quarter of the union) without a plate. The issue asks for 0.85; that is
 // not reached: OpenCV's HOG finds one of the two people per view here (at
 // 320x240 at most one in two views), so the test holds the gain, not the goal.
+// Two people who stand still from the first frame, no plate: background
+// subtraction finds nothing, so the automatic choice (box_fill kEmptyViews)
+// runs GrabCut in person boxes. OpenCV's HOG boxes miss one of the two in
+// most views and cut the other short; boxes of the people that two views'
+// boxes place on the floor (step 4b) cover both in every view. The issue
+// asks for a foreground IoU of at least 0.85 against ground truth: here the
+// mean over two seeds (7, and 8 which the step was not developed on).
 TEST(InitTest, StillPeopleWithoutAPlateFoundInHogBoxes) {
-  synth::SynthOptions o = synth::SmallHandshakeOptions(4, 640, 480, 6);
-  o.still_people = true;
-  o.seed = 7;
-  static const SynthFixture* still = MakeFixture("init_still_test", o);
-  InitOptions never;
+  InitOptions never, single_view;
   never.people.box_fill = PeopleOptions::BoxFill::kNever;
-  const std::vector<double> iou = ForegroundIoUs(*still, still->self_backgrounds, {never, {}});
-  std::printf(
-      "still people, background from the capture alone: IoU without box fill %.3f, "
-      "default (box fill in empty views) %.3f\n",
-      iou[1], iou[2]);
-  EXPECT_LT(iou[1], 0.1);  // nothing to subtract: the people are the background
-  EXPECT_GT(iou[2], 0.25);
+  single_view.people.boxes_from_views = false;
+  std::vector<double> sum(4, 0.0);
+  for (const int seed : {7, 8}) {
+    synth::SynthOptions o = synth::SmallHandshakeOptions(4, 640, 480, 6);
+    o.still_people = true;
+    o.seed = seed;
+    const std::unique_ptr<const SynthFixture> still(
+        MakeFixture("init_still_test_" + std::to_string(seed), o));
+    const std::vector<double> iou =
+        ForegroundIoUs(*still, still->self_backgrounds, {never, single_view, {}});
+    std::printf(
+        "still people (seed %d), background from the capture alone: IoU without box fill %.3f, "
+        "single-view HOG boxes %.3f, default (boxes from views) %.3f\n",
+        seed, iou[1], iou[2], iou[3]);
+    for (int k = 0; k < 4; ++k) sum[k] += iou[k] / 2;
+  }
+  EXPECT_LT(sum[1], 0.1);  // nothing to subtract: the people are the background
+  EXPECT_GE(sum[3], 0.85);
+  EXPECT_GT(sum[3], sum[2] + 0.1);
 }
 
 // A person who never moves, on a flat grey stage with sensor noise: the

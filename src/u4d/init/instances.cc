@@ -168,17 +168,19 @@ PeopleOptions::BoxFill BoxFillFromString(const std::string& name) {
   return PeopleOptions::BoxFill::kAlways;
 }
 
+bool FillsBoxes(const cv::Mat& foreground, const InitOptions& options) {
+  using BoxFill = PeopleOptions::BoxFill;
+  if (options.people.box_fill != BoxFill::kEmptyViews)
+    return options.people.box_fill == BoxFill::kAlways;
+  return cv::countNonZero(foreground) < options.people.min_instance_fraction * foreground.total();
+}
+
 cv::Mat AddDetectedPeople(const cv::Mat& image_bgr, const cv::Mat& foreground,
                           const std::vector<PersonBox>& boxes, const InitOptions& options) {
   options.Check();
   CheckImageAndForeground("AddDetectedPeople", image_bgr, foreground);
   cv::Mat out = foreground.clone();
-  using BoxFill = PeopleOptions::BoxFill;
-  if (options.people.box_fill == BoxFill::kNever) return out;
-  const double least_instance = options.people.min_instance_fraction * foreground.total();
-  if (options.people.box_fill == BoxFill::kEmptyViews &&
-      cv::countNonZero(foreground) >= least_instance)
-    return out;
+  if (!FillsBoxes(foreground, options)) return out;
   const cv::Rect image_rect(0, 0, image_bgr.cols, image_bgr.rows);
   for (const PersonBox& b : boxes) {
     const double coverage = static_cast<double>(cv::countNonZero(foreground(b.box))) / b.box.area();
@@ -208,9 +210,9 @@ cv::Mat AddDetectedPeople(const cv::Mat& image_bgr, const cv::Mat& foreground,
     gc(centre & cv::Rect(0, 0, sz.width, sz.height)).setTo(cv::GC_PR_FGD);
     gc.setTo(cv::GC_PR_FGD, fg);
     cv::Mat bgd, fgd;
+    const FixedGrabCutSeed seed;
     cv::grabCut(img, gc, cv::Rect(), bgd, fgd, options.people.grabcut_box_iterations,
                 cv::GC_INIT_WITH_MASK);
-    const FixedGrabCutSeed seed;
     cv::Mat res = (gc == cv::GC_FGD) | (gc == cv::GC_PR_FGD), up;
     cv::resize(res, up, roi.size(), 0, 0, cv::INTER_NEAREST);
     // Only inside the detector's box.
