@@ -70,6 +70,10 @@ struct FrameSetupOptions {
   // Each object's region also holds its leave-one-out visual hull from the
   // other views (hull_support.h): parts one view's mask missed.
   HullSupportOptions hull;
+  // The camera-size labels keep the initial masks' detail where the solve
+  // kept its input (pipeline/scene_outputs.h KeepInitialDetail); false: the
+  // working-resolution labels upscaled by nearest neighbour.
+  bool keep_initial_detail = true;
   void Check() const;
 };
 

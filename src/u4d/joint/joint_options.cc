@@ -13,6 +13,9 @@ void DeclareOptions(OptionRegistry& r, FrameSetupOptions* o) {
   r.Add("min_joint_confidence", &o->min_joint_confidence,
         "joints below this confidence are missing");
   r.Nested("hull", &o->hull);
+  r.Add("keep_initial_detail", &o->keep_initial_detail,
+        "camera-size labels keep the initial masks' detail where the solve kept its input (false: "
+        "the working-resolution labels upscaled by nearest neighbour)");
   // `pose` (the capsule model) is not declared: it is JointViewOptions::pose,
   // which callers copy in (the pipeline does), so the capsules are one setting.
 }

@@ -106,6 +106,10 @@ struct SolvedFrame {
   std::vector<Camera> full_cameras;  // camera size
   std::vector<cv::Mat> full_images;  // camera size, BGR
   std::vector<cv::Mat> labels, depth, flow;
+  // Per view, the solve's initial labels (working resolution) and the
+  // initial object ids at camera size; empty where the view was not solved
+  // or frame_setup.keep_initial_detail is off (scene_outputs.h ToCameraSize).
+  std::vector<cv::Mat> initial, full_initial;
 };
 
 SolvedFrame SolveFrame(RunContext& c, int f, const std::vector<std::vector<Pose3d>>& poses,
@@ -152,6 +156,8 @@ SolvedFrame SolveFrame(RunContext& c, int f, const std::vector<std::vector<Pose3
   solved.labels.resize(nv);
   solved.depth.resize(nv);
   solved.flow.resize(nv);
+  solved.initial.resize(nv);
+  solved.full_initial.resize(nv);
   for (int v = 0; v < nv; ++v) {
     solved.cameras.push_back(ScaledCamera(data.cameras_t[v], scale));
     cv::Mat img;
@@ -168,6 +174,10 @@ SolvedFrame SolveFrame(RunContext& c, int f, const std::vector<std::vector<Pose3
       solved.labels[v] = r.labels;
       solved.depth[v] = r.depth;
       solved.flow[v] = r.flow.empty() ? cv::Mat::zeros(cam.height, cam.width, CV_32FC2) : r.flow;
+      if (c.o.frame_setup.keep_initial_detail && !data.masks_t[v].empty()) {
+        solved.initial[v] = inputs[v].initial_labels;
+        solved.full_initial[v] = data.masks_t[v];
+      }
     } else {
       solved.labels[v] = cv::Mat::zeros(cam.height, cam.width, CV_16U);
       solved.depth[v] = cv::Mat::zeros(cam.height, cam.width, CV_32F);
@@ -189,8 +199,10 @@ void WriteFrameMaps(const RunContext& c, const SolvedFrame& s) {
     r.depth = s.depth[v];
     r.flow = s.flow[v];
     const Camera& full = s.full_cameras[v];
-    WriteViewMaps(c.out, c.names[v], s.frame, ToCameraSize(r, full.width, full.height, s.scale),
-                  s.full_images[v], c.o.picture_width, c.classes);
+    WriteViewMaps(
+        c.out, c.names[v], s.frame,
+        ToCameraSize(r, full.width, full.height, s.scale, s.initial[v], s.full_initial[v]),
+        s.full_images[v], c.o.picture_width, c.classes);
   }
 }
 

@@ -1,5 +1,6 @@
 #include "u4d/pipeline/scene_outputs.h"
 
+#include <algorithm>
 #include <set>
 
 #include <opencv2/imgproc.hpp>
@@ -13,7 +14,51 @@
 
 namespace u4d {
 
-ViewMaps ToCameraSize(const JointViewResult& result, int width, int height, double scale) {
+void KeepInitialDetail(const cv::Mat& working_labels, const cv::Mat& working_depth,
+                       const cv::Mat& initial_working, const cv::Mat& initial_full, cv::Mat* labels,
+                       cv::Mat* depth) {
+  U4D_CHECK(working_labels.type() == CV_16UC1 && initial_working.type() == CV_16UC1 &&
+                initial_full.type() == CV_16UC1 && working_depth.type() == CV_32FC1 &&
+                labels->type() == CV_16UC1 && depth->type() == CV_32FC1,
+            "KeepInitialDetail: labels must be CV_16U and depth CV_32F");
+  U4D_CHECK(working_labels.size() == initial_working.size() &&
+                working_labels.size() == working_depth.size() &&
+                initial_full.size() == labels->size() && initial_full.size() == depth->size(),
+            "KeepInitialDetail: the working maps ({}x{}) and the camera-size maps ({}x{}) must "
+            "each have one size",
+            working_labels.cols, working_labels.rows, initial_full.cols, initial_full.rows);
+  const int ww = working_labels.cols, wh = working_labels.rows;
+  // Working pixels whose 3x3 neighbourhood the solve left as it was given.
+  cv::Mat kept;
+  cv::erode(working_labels == initial_working, kept, cv::Mat::ones(3, 3, CV_8U), {-1, -1}, 1,
+            cv::BORDER_REPLICATE);
+  const double sx = double(ww) / labels->cols, sy = double(wh) / labels->rows;
+  for (int y = 0; y < labels->rows; ++y) {
+    const double fy = (y + 0.5) * sy - 0.5;
+    const int qy = std::min(wh - 1, static_cast<int>(y * sy));
+    for (int x = 0; x < labels->cols; ++x) {
+      const int qx = std::min(ww - 1, static_cast<int>(x * sx));
+      const int l = initial_full.at<uint16_t>(y, x);
+      if (!kept.at<uint8_t>(qy, qx) || l == labels->at<uint16_t>(y, x)) continue;
+      // The nearest working pixel of the 3x3 holding label l.
+      const double fx = (x + 0.5) * sx - 0.5;
+      double best = 1e9;
+      float z = 0;
+      for (int ny = std::max(0, qy - 1); ny <= std::min(wh - 1, qy + 1); ++ny)
+        for (int nx = std::max(0, qx - 1); nx <= std::min(ww - 1, qx + 1); ++nx) {
+          if (working_labels.at<uint16_t>(ny, nx) != l) continue;
+          const double d = (nx - fx) * (nx - fx) + (ny - fy) * (ny - fy);
+          if (d < best) best = d, z = working_depth.at<float>(ny, nx);
+        }
+      if (best == 1e9) continue;  // l not among the solve's labels there
+      labels->at<uint16_t>(y, x) = static_cast<uint16_t>(l);
+      depth->at<float>(y, x) = l == 0 ? 0.f : z;
+    }
+  }
+}
+
+ViewMaps ToCameraSize(const JointViewResult& result, int width, int height, double scale,
+                      const cv::Mat& initial_working, const cv::Mat& initial_full) {
   U4D_CHECK(scale > 0 && scale <= 1, "ToCameraSize: scale must be in (0, 1], got {}", scale);
   U4D_CHECK(result.labels.type() == CV_16UC1 && result.depth.type() == CV_32FC1,
             "ToCameraSize: labels must be CV_16U and depth CV_32F");
@@ -21,6 +66,9 @@ ViewMaps ToCameraSize(const JointViewResult& result, int width, int height, doub
   ViewMaps maps;
   cv::resize(result.labels, maps.labels, size, 0, 0, cv::INTER_NEAREST);
   cv::resize(result.depth, maps.depth, size, 0, 0, cv::INTER_NEAREST);
+  if (!initial_working.empty() && !initial_full.empty() && result.labels.size() != size)
+    KeepInitialDetail(result.labels, result.depth, initial_working, initial_full, &maps.labels,
+                      &maps.depth);
   if (result.flow.empty()) {
     maps.flow = cv::Mat::zeros(size, CV_32FC2);
   } else {

@@ -22,8 +22,28 @@ struct ViewMaps {
 // Upscales a working-resolution result (scale = working / camera width):
 // labels and depth by nearest neighbour (no depth mixed across a boundary),
 // flow bilinearly with its vectors divided by `scale`. An empty flow (last
-// frame) becomes zeros.
-ViewMaps ToCameraSize(const JointViewResult& result, int width, int height, double scale);
+// frame) becomes zeros. With the initial labels of the view at both sizes
+// (`initial_working`, the solve's input, and `initial_full`, camera size;
+// both CV_16U, or both empty = plain nearest neighbour) the labels keep the
+// initial masks' detail where the solve kept them (KeepInitialDetail).
+ViewMaps ToCameraSize(const JointViewResult& result, int width, int height, double scale,
+                      const cv::Mat& initial_working = {}, const cv::Mat& initial_full = {});
+
+// The camera-size labels and depth of a working-resolution solve where the
+// solve agreed with its input: the working resolution cannot hold a boundary
+// finer than its pixel (a 2x downscale moves it by up to a camera pixel and
+// makes a hand or a foot one or two working pixels wide), so a solve that
+// kept perfect masks would give them back jagged. A camera pixel takes its
+// `initial_full` label where the solve left its working pixel and the 8
+// around it at their `initial_working` labels and that label is among the
+// solve's labels of those 9 pixels; it then takes the depth of the nearest
+// of them with that label (0 for the background). Elsewhere, and wherever
+// the solve changed a label nearby, the nearest working pixel's label and
+// depth (`labels`, `depth`: already upscaled by nearest neighbour, camera
+// size, changed in place). Throws u4d::Error on mismatched sizes or types.
+void KeepInitialDetail(const cv::Mat& working_labels, const cv::Mat& working_depth,
+                       const cv::Mat& initial_working, const cv::Mat& initial_full, cv::Mat* labels,
+                       cv::Mat* depth);
 
 // All-background maps of the camera's size (a view where no object projects).
 ViewMaps EmptyViewMaps(int width, int height);
