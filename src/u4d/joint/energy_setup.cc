@@ -29,6 +29,14 @@ struct LabelOnlyEnergy : mrf::GridEnergy {
   }
 };
 
+// The labels of the objects the view holds (whose hulls HullConfirmation cast).
+std::vector<bool> HeldLabels(const JointViewInput& in) {
+  std::vector<bool> held(in.num_labels, false);
+  for (const JointObject& obj : in.objects)
+    if (obj.id >= 0 && obj.id < in.num_labels) held[obj.id] = true;
+  return held;
+}
+
 // The label maps E_sem combines (JointViewOptions::semantic_temporal): the
 // initial labels of t and every other labelled image of ψ_T (t−1, t+1)
 // carried to t by dense flow (OpenCV DIS, medium preset) from the reference
@@ -87,6 +95,13 @@ void CheckJointViewInput(const JointViewInput& in) {
   U4D_CHECK(in.hull_support.empty() || (in.hull_support.type() == CV_16UC1 &&
                                         in.hull_support.size() == in.initial_labels.size()),
             "SolveJointView: the hull support must be CV_16U of the view's size");
+  U4D_CHECK(in.hull_confirmed.empty() || (in.hull_confirmed.type() == CV_16UC1 &&
+                                          in.hull_confirmed.size() == in.initial_labels.size()),
+            "SolveJointView: the confirmed labels must be CV_16U of the view's size");
+  U4D_CHECK(in.hull_confirmed_alone.empty() ||
+                (in.hull_confirmed_alone.type() == CV_8UC1 &&
+                 in.hull_confirmed_alone.size() == in.initial_labels.size()),
+            "SolveJointView: the confirmed labels' `alone` must be CV_8U of the view's size");
 }
 
 cv::Mat GrowRegion(const cv::Mat& mask, int margin) {
@@ -156,6 +171,9 @@ LabelTermVolumes SetUpLabelUnaries(const JointViewInput& in, const JointViewOpti
   cv::dilate(roi, volumes.appearance_where, cv::Mat::ones(3, 3, CV_8U));
   volumes.appearance = AppearanceCosts(in.images_t[v], volumes.training, in.num_labels, in.markers,
                                        options.labels, volumes.appearance_where);
+  if (!in.hull_confirmed.empty())
+    TrustConfirmedLabels(in.hull_confirmed, in.hull_confirmed_alone, HeldLabels(in),
+                         &volumes.appearance);
   volumes.semantic = SemanticCosts(
       options.semantic_temporal ? SemanticLabelMaps(in) : std::vector{in.initial_labels},
       in.num_labels, options.labels);
@@ -234,6 +252,9 @@ bool RefitAppearance(const JointViewInput& in, const JointViewOptions& options,
     training[frame_t].labels = refined;
     volumes->appearance = AppearanceCosts(in.images_t[v], training, in.num_labels, in.markers,
                                           options.labels, volumes->appearance_where);
+    if (!in.hull_confirmed.empty())
+      TrustConfirmedLabels(in.hull_confirmed, in.hull_confirmed_alone, HeldLabels(in),
+                           &volumes->appearance);
     FillLabelUnary(options, *volumes, energy);
   }
   return true;

@@ -44,6 +44,14 @@ void AddHullSupport(const std::vector<Camera>& cameras, const HullSupportOptions
     }
     if (objects.empty()) continue;
     in.hull_support = HullSupport(cameras, labels, static_cast<int>(v), objects, options);
+    if (options.confirm) {
+      // The object the other views put at a pixel the view gives to another
+      // may take it (a merged instance split wrongly).
+      cv::Mat seen;
+      in.hull_confirmed = HullConfirmation(cameras, labels, static_cast<int>(v), objects, options,
+                                           &seen, &in.hull_confirmed_alone);
+      for (JointObject& obj : in.objects) obj.region |= seen == obj.id;
+    }
     for (JointObject& obj : in.objects) obj.region |= in.hull_support == obj.id;
     std::erase_if(in.objects,
                   [](const JointObject& obj) { return cv::countNonZero(obj.region) == 0; });

@@ -47,6 +47,17 @@ struct HullSupportOptions {
   // samples carry the other person's and the gap's colours (more merges).
   bool colour_samples = false;
   int max_side = 240;  // rays are cast at this longest side (the map is then upsampled)
+  // E_a does not overrule a label the other views confirm (HullConfirmation).
+  // Off by default: it keeps masks the views agree on (true masks: white
+  // shoes on white tiles), but it also keeps a boundary error every
+  // detector mask shares, and on detector-like masks it costs a little
+  // accuracy at the working resolution (docs/joint.md). For masks the capture
+  // trusts (keyed, hand-made).
+  bool confirm = false;
+  // A confirming view must hold the point this far inside its object labels
+  // (pixels): a detector's boundary errs by a few pixels in every view, and a
+  // leave-one-out hull from dilated masks would confirm the view's own error.
+  int confirm_inset_px = 2;
   void Check() const;  // throws u4d::Error naming the bad field
 };
 
@@ -64,5 +75,28 @@ struct HullObject {
 // range is bad, or an option is out of range.
 cv::Mat HullSupport(const std::vector<Camera>& cameras, const std::vector<cv::Mat>& labels, int ref,
                     const std::vector<HullObject>& objects, const HullSupportOptions& options = {});
+
+// The other half of the same evidence: the pixels of view `ref` that its own
+// labels give to an object o and whose ray meets o's leave-one-out hull (the
+// same test as above) — the other views agree with the view's label there.
+// CV_16U, o at those pixels, 0 elsewhere (claims play no part). The solve
+// trusts the agreement over the view's colour models (label_costs.h
+// TrustConfirmedLabels): a white shoe on white floor tiles is the background's
+// colour, but every other view puts the shoe on the person. Same inputs and
+// errors as HullSupport. The rays of every object are cast over the pixels
+// the view gives to any object (within their search boxes), and o is
+// confirmed where its hull is the nearest a ray meets: a person behind the
+// one seen meets the ray too. The other views must hold the point
+// `confirm_inset_px` inside their labels. `seen`, when given, receives the
+// nearest object at every such pixel, confirmed or not (0 = none met): where
+// the view gave one person's pixels to another (a merged instance split
+// wrongly), the object the other views put there. `alone`, when given,
+// receives (CV_8U) the confirmed pixels whose ray meets no other object's
+// hull: where people overlap in the view the hulls, bloated between views,
+// may put the wrong one in front.
+cv::Mat HullConfirmation(const std::vector<Camera>& cameras, const std::vector<cv::Mat>& labels,
+                         int ref, const std::vector<HullObject>& objects,
+                         const HullSupportOptions& options = {}, cv::Mat* seen = nullptr,
+                         cv::Mat* alone = nullptr);
 
 }  // namespace u4d

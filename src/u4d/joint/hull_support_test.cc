@@ -112,6 +112,90 @@ TEST(HullSupportTest, AnObjectMergedWithItsHolderComesBackWhereItClaimsThePerson
   EXPECT_LE(body, 0.05);
 }
 
+// With the true labels in every view, the other views confirm the view's
+// object: all of it but a rim as wide as the confirming views' inset.
+TEST(HullConfirmationTest, TheOtherViewsConfirmTheTrueLabels) {
+  const Scene s = MakeScene();
+  cv::Mat alone;
+  const cv::Mat confirmed =
+      HullConfirmation(s.cameras, s.labels, kRef, kObject, {}, nullptr, &alone);
+  EXPECT_EQ(cv::countNonZero(alone != (confirmed != 0)), 0);  // one object: every ray alone
+  const cv::Mat figure = s.labels[kRef] == 1;
+  cv::Mat core;
+  cv::erode(figure, core, cv::Mat::ones(9, 9, CV_8U));
+  EXPECT_GE(Covered(confirmed, core), 0.95);
+  EXPECT_GE(Covered(confirmed, figure), 0.8);
+  EXPECT_EQ(cv::countNonZero((confirmed != 0) & ~figure), 0);  // never beyond the view's labels
+}
+
+// A detector's errors in the view: a blob beside the figure (a false piece)
+// and the figure's mask dilated by 4 px. Only the other views' labels
+// confirm, so neither is confirmed.
+TEST(HullConfirmationTest, TheViewsOwnErrorsAreNotConfirmed) {
+  Scene s = MakeScene();
+  const cv::Mat figure = s.labels[kRef] == 1;
+  cv::Mat dilated;
+  cv::dilate(figure, dilated, cv::getStructuringElement(cv::MORPH_ELLIPSE, {9, 9}));
+  const cv::Rect box = cv::boundingRect(figure);
+  cv::Mat blob = cv::Mat::zeros(figure.size(), CV_8U);
+  cv::circle(blob, {box.x - 14, box.y + box.height / 2}, 9, 255, cv::FILLED);
+  ASSERT_EQ(cv::countNonZero(blob & dilated), 0);
+  s.labels[kRef].setTo(1, dilated | blob);
+  const cv::Mat confirmed = HullConfirmation(s.cameras, s.labels, kRef, kObject);
+  EXPECT_EQ(cv::countNonZero((confirmed != 0) & blob), 0);
+  // Most of the rim is not confirmed: the leave-one-out hull of the other
+  // views, cast on a grid coarser than the image, is a little larger than
+  // the figure.
+  const cv::Mat rim = dilated & ~figure;
+  EXPECT_LE(Covered(confirmed, rim), 0.15);
+}
+
+// Two people, one behind the other in the view: where the front one is seen,
+// the ray meets the hull of the one behind it too, but only the nearest
+// object is confirmed: the pixels the view gives to the person behind there
+// (a wrong split of a merged instance) are not.
+TEST(HullConfirmationTest, APersonBehindTheOneSeenIsNotConfirmed) {
+  const synth::RigOptions rig = [] {
+    synth::RigOptions o;
+    o.image_width = 320;
+    o.image_height = 180;
+    return o;
+  }();
+  const std::vector<Camera> cameras = synth::RigCameras(rig);
+  // Person 2 stands 0.8 m behind person 1 as view kRef sees them.
+  Eigen::Vector3d towards = -cameras[kRef].Center();
+  towards.y() = 0;  // along the floor, away from the camera
+  towards.normalize();
+  std::vector<Sphere> front = kBody, back = kBody;
+  for (Sphere& b : back) b.centre += 0.8 * towards;
+  std::vector<cv::Mat> labels;
+  cv::Mat seen_front;
+  for (const Camera& cam : cameras) {
+    const cv::Mat f = RenderSpheres(cam, front), b = RenderSpheres(cam, back);
+    cv::Mat ids = cv::Mat::zeros(cam.height, cam.width, CV_16U);
+    const bool front_nearer = cam.Depth(front[1].centre) < cam.Depth(back[1].centre);
+    ids.setTo(front_nearer ? 2 : 1, front_nearer ? b : f);
+    ids.setTo(front_nearer ? 1 : 2, front_nearer ? f : b);
+    labels.push_back(ids);
+    if (labels.size() == static_cast<size_t>(kRef) + 1) seen_front = f.clone();
+  }
+  // The view's labels give the front person's upper half to person 2.
+  const cv::Rect box = cv::boundingRect(seen_front);
+  cv::Mat wrong = cv::Mat::zeros(seen_front.size(), CV_8U);
+  wrong(cv::Rect(box.x, box.y, box.width, box.height / 2)).setTo(255);
+  wrong &= seen_front;
+  labels[kRef].setTo(2, wrong);
+  const std::vector<HullObject> objects = {{1, 3.0, 6.0, {}}, {2, 3.0, 6.0, {}}};
+  cv::Mat alone;
+  const cv::Mat confirmed = HullConfirmation(cameras, labels, kRef, objects, {}, nullptr, &alone);
+  EXPECT_LE(cv::countNonZero((confirmed == 2) & wrong), 0.05 * cv::countNonZero(wrong));
+  EXPECT_GE(Covered(confirmed, seen_front & ~wrong), 0.6);
+  // Where the person behind stands right behind the one seen, the rays meet
+  // both hulls: not alone.
+  const cv::Mat both = seen_front & RenderSpheres(cameras[kRef], back);
+  EXPECT_LE(cv::countNonZero(alone & both), 0.05 * cv::countNonZero(both));
+}
+
 TEST(HullSupportTest, BadInputIsAnError) {
   const Scene s = MakeScene();
   EXPECT_THROW(HullSupport(s.cameras, s.labels, 8, kObject), Error);

@@ -28,6 +28,12 @@ void DeclareOptions(OptionRegistry& r, HullSupportOptions* o) {
   r.Add("mask_tolerance_px", &o->mask_tolerance_px,
         "the other views' object labels are dilated by this (working pixels)");
   r.Add("depth_samples", &o->depth_samples, "depths tested per ray over the object's range");
+  r.Add("confirm", &o->confirm,
+        "E_a does not overrule the view's label where the other views' hull confirms it (a colour "
+        "the background shares, e.g. a white shoe on white tiles); for masks the capture trusts");
+  r.Add("confirm_inset_px", &o->confirm_inset_px,
+        "a confirming view must hold the point this far inside its object labels (pixels): not "
+        "the detectors' boundary errors");
   r.Add("colour_samples", &o->colour_samples,
         "E_a samples the supported pixels as their object, not as background (restores a part cut "
         "in every frame; more merges where touching people merge in the other views)");

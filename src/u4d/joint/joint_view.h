@@ -200,6 +200,12 @@ struct JointViewInput {
   // initial labels call background (hull_support.h), 0 = none; empty = none.
   // E_sem there does not prefer the background over that object.
   cv::Mat hull_support;
+  // CV_16U: the view's own label where the other views' hull confirms it
+  // (hull_support.h HullConfirmation), 0 = none; empty = none.
+  cv::Mat hull_confirmed;
+  // CV_8U: those of hull_confirmed whose ray meets no other object's hull;
+  // empty = none.
+  cv::Mat hull_confirmed_alone;
 };
 
 // Energy after each block, with its name ("init", "labels", "depth", "motion", "fusion").

@@ -409,6 +409,25 @@ void RelaxSemanticCosts(const cv::Mat& initial_labels, const cv::Mat& support,
   }
 }
 
+void TrustConfirmedLabels(const cv::Mat& confirmed, const cv::Mat& alone,
+                          const std::vector<bool>& held, LabelCostVolume* appearance) {
+  const int w = appearance->width, h = appearance->height;
+  U4D_CHECK(confirmed.type() == CV_16UC1 && confirmed.cols == w && confirmed.rows == h,
+            "TrustConfirmedLabels: the confirmed labels must be CV_16U {}x{}", w, h);
+  U4D_CHECK(alone.empty() || (alone.type() == CV_8UC1 && alone.size() == confirmed.size()),
+            "TrustConfirmedLabels: `alone` must be empty or CV_8U {}x{}", w, h);
+  const size_t n = static_cast<size_t>(w) * h;
+  for (size_t p = 0; p < n; ++p) {
+    const int o = confirmed.ptr<uint16_t>()[p];
+    if (o == 0 || o >= appearance->num_labels) continue;
+    float& cost = appearance->cost[o * n + p];
+    const bool no_other_hull = !alone.empty() && alone.ptr<uint8_t>()[p];
+    for (int l = 0; l < appearance->num_labels; ++l)
+      if (l == 0 || (no_other_hull && l < static_cast<int>(held.size()) && held[l]))
+        cost = std::min(cost, appearance->cost[l * n + p]);
+  }
+}
+
 namespace {
 
 template <typename Distance>

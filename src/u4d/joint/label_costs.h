@@ -114,6 +114,21 @@ LabelCostVolume SemanticCosts(const std::vector<cv::Mat>& label_maps, int num_la
 void RelaxSemanticCosts(const cv::Mat& initial_labels, const cv::Mat& support,
                         LabelCostVolume* semantic);
 
+// E_a where the other views confirm the view's label (hull_support.h
+// HullConfirmation): at each pixel of `confirmed` (CV_16U) naming an object o
+// in [1, num_labels), o's cost is lowered to the background's, and where
+// `alone` (CV_8U; empty = nowhere) says no other object's hull is on the ray,
+// to the lowest of the background's and the `held` objects' (those the view
+// holds, whose hulls were cast). The colour models then prefer none of them
+// there and E_sem, E_c, E_d (and E_p) decide: a colour the background shares
+// (a white shoe on white tiles, a sleeve in a shadow) or another person far
+// from there shares (grey shoes) does not take a part every view agrees on.
+// Where people overlap, and against an object the view does not hold
+// (missed or merged with another here, its hull not cast), the colours still
+// decide between the objects. Throws on a size or type mismatch.
+void TrustConfirmedLabels(const cv::Mat& confirmed, const cv::Mat& alone,
+                          const std::vector<bool>& held, LabelCostVolume* appearance);
+
 // Colour-contrast weight of each neighbour pair for E_c:
 // exp(−||I_p − I_q||² / (2β)) / |p − q|, β the mean of ||I_p − I_q||² over
 // the pairs (as GrabCut). `pairs` as mrf::NeighbourPairs.

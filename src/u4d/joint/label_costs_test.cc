@@ -177,5 +177,37 @@ TEST(RelaxSemanticCostsTest, TheOtherViewsObjectCostsNoMoreThanTheInitialLabel) 
   EXPECT_THROW(RelaxSemanticCosts(labels, cv::Mat::zeros(5, 5, CV_16U), &semantic), Error);
 }
 
+TEST(TrustConfirmedLabelsTest, AConfirmedObjectCostsNoMoreThanTheBackgroundOrAHeldObject) {
+  // A 10x10 volume of 4 labels: the colour costs prefer label 3, then 2, the
+  // background 0, then 1. The view holds objects 1 and 2 (3 was not tested).
+  // The other views confirm label 1 on the left half, alone on its top row,
+  // and label 2 on one pixel of the right half.
+  LabelCostVolume appearance;
+  appearance.width = appearance.height = 10;
+  appearance.num_labels = 4;
+  appearance.cost.resize(400);
+  const float cost_of[4] = {0.5f, 0.9f, 0.3f, 0.1f};
+  for (int l = 0; l < 4; ++l)
+    for (int p = 0; p < 100; ++p) appearance.cost[l * 100 + p] = cost_of[l];
+  const LabelCostVolume before = appearance;
+  cv::Mat confirmed = cv::Mat::zeros(10, 10, CV_16U);
+  confirmed(cv::Rect(0, 0, 5, 10)).setTo(1);
+  confirmed.at<uint16_t>(3, 7) = 2;
+  cv::Mat alone = cv::Mat::zeros(10, 10, CV_8U);
+  alone(cv::Rect(0, 0, 5, 1)).setTo(255);
+  TrustConfirmedLabels(confirmed, alone, {false, true, true, false}, &appearance);
+  for (int p = 0; p < 100; ++p) {
+    const bool left = p % 10 < 5, top = p < 10;
+    EXPECT_FLOAT_EQ(appearance.At(p, 0), before.At(p, 0));
+    // Alone: lowered to the held object 2's (not to the untested 3's);
+    // elsewhere to the background's.
+    const float one = !left ? before.At(p, 1) : top ? before.At(p, 2) : before.At(p, 0);
+    EXPECT_FLOAT_EQ(appearance.At(p, 1), one);
+    EXPECT_FLOAT_EQ(appearance.At(p, 2), before.At(p, 2));  // already below the background's
+    EXPECT_FLOAT_EQ(appearance.At(p, 3), before.At(p, 3));
+  }
+  EXPECT_THROW(TrustConfirmedLabels(cv::Mat::zeros(5, 5, CV_16U), {}, {}, &appearance), Error);
+}
+
 }  // namespace
 }  // namespace u4d
