@@ -74,6 +74,10 @@ struct FrameSetupOptions {
   // kept its input (pipeline/scene_outputs.h KeepInitialDetail); false: the
   // working-resolution labels upscaled by nearest neighbour.
   bool keep_initial_detail = true;
+  // The camera-size labels follow the image's colour edges near the solve's
+  // boundaries (pipeline/scene_outputs.h GuidedLabels, joint bilateral
+  // upsampling); false: nearest neighbour there.
+  bool guided_upsampling = true;
   void Check() const;
 };
 

@@ -13,6 +13,9 @@ void DeclareOptions(OptionRegistry& r, FrameSetupOptions* o) {
   r.Add("min_joint_confidence", &o->min_joint_confidence,
         "joints below this confidence are missing");
   r.Nested("hull", &o->hull);
+  r.Add("guided_upsampling", &o->guided_upsampling,
+        "camera-size labels follow the image's colour edges near the solve's boundaries (joint "
+        "bilateral upsampling; false: nearest neighbour)");
   r.Add("keep_initial_detail", &o->keep_initial_detail,
         "camera-size labels keep the initial masks' detail where the solve kept its input (false: "
         "the working-resolution labels upscaled by nearest neighbour)");

@@ -199,9 +199,11 @@ void WriteFrameMaps(const RunContext& c, const SolvedFrame& s) {
     r.depth = s.depth[v];
     r.flow = s.flow[v];
     const Camera& full = s.full_cameras[v];
+    const bool guided = c.o.frame_setup.guided_upsampling;
     WriteViewMaps(
         c.out, c.names[v], s.frame,
-        ToCameraSize(r, full.width, full.height, s.scale, s.initial[v], s.full_initial[v]),
+        ToCameraSize(r, full.width, full.height, s.scale, s.initial[v], s.full_initial[v],
+                     guided ? s.images[v] : cv::Mat(), guided ? s.full_images[v] : cv::Mat()),
         s.full_images[v], c.o.picture_width, c.classes);
   }
 }

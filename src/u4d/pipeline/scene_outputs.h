@@ -26,8 +26,27 @@ struct ViewMaps {
 // (`initial_working`, the solve's input, and `initial_full`, camera size;
 // both CV_16U, or both empty = plain nearest neighbour) the labels keep the
 // initial masks' detail where the solve kept them (KeepInitialDetail).
+// With the view's image at both sizes (`working_image`, the solve's, and
+// `full_image`; both BGR, or both empty) the labels are upscaled guided by
+// the image first (GuidedLabels).
 ViewMaps ToCameraSize(const JointViewResult& result, int width, int height, double scale,
-                      const cv::Mat& initial_working = {}, const cv::Mat& initial_full = {});
+                      const cv::Mat& initial_working = {}, const cv::Mat& initial_full = {},
+                      const cv::Mat& working_image = {}, const cv::Mat& full_image = {});
+
+// Joint bilateral upsampling of the labels (Kopf et al. 2007) near the
+// solve's boundaries: a camera pixel whose working pixel has another label
+// among its 8 neighbours takes the label of those 9 working pixels with the
+// most weight exp(−d²/2 − |I − I_q|²/(2β)), d the distance in working pixels
+// and I − I_q the colour difference between the camera pixel and the working
+// pixel q (β: the mean squared colour difference of neighbouring working
+// pixels, as E_c's); its depth is that of the heaviest working pixel of the
+// label (0 for the background). A boundary the working resolution puts
+// within a working pixel follows the colour edge at camera size. `labels`,
+// `depth`: already upscaled by nearest neighbour, changed in place. Throws
+// u4d::Error on mismatched sizes or types.
+void GuidedLabels(const cv::Mat& working_labels, const cv::Mat& working_depth,
+                  const cv::Mat& working_image, const cv::Mat& full_image, cv::Mat* labels,
+                  cv::Mat* depth);
 
 // The camera-size labels and depth of a working-resolution solve where the
 // solve agreed with its input: the working resolution cannot hold a boundary
