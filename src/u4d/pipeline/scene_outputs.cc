@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <set>
+#include <vector>
 
 #include <opencv2/imgproc.hpp>
 
@@ -16,73 +17,107 @@
 
 namespace u4d {
 
+namespace {
+
+// Where a camera pixel (x, y) lies on the working grid: q, the working pixel
+// cv::resize's INTER_NEAREST gives it, and f, its centre in working
+// coordinates.
+struct WorkingPlace {
+  int x = 0, y = 0, qx = 0, qy = 0;
+  double fx = 0, fy = 0;
+};
+
+// Calls fn(place) for every camera pixel of `camera` over `working`.
+template <typename Fn>
+void ForEachCameraPixel(cv::Size working, cv::Size camera, Fn fn) {
+  const double sx = double(working.width) / camera.width;
+  const double sy = double(working.height) / camera.height;
+  WorkingPlace at;
+  for (at.y = 0; at.y < camera.height; ++at.y) {
+    at.fy = (at.y + 0.5) * sy - 0.5;
+    at.qy = std::min(working.height - 1, static_cast<int>(at.y * sy));
+    for (at.x = 0; at.x < camera.width; ++at.x) {
+      at.fx = (at.x + 0.5) * sx - 0.5;
+      at.qx = std::min(working.width - 1, static_cast<int>(at.x * sx));
+      fn(at);
+    }
+  }
+}
+
+// Calls fn(nx, ny, d2) for the working pixels of the 3x3 around the place's
+// q, d2 their squared distance to its centre f.
+template <typename Fn>
+void ForEachNeighbour(const WorkingPlace& at, cv::Size working, Fn fn) {
+  for (int ny = std::max(0, at.qy - 1); ny <= std::min(working.height - 1, at.qy + 1); ++ny)
+    for (int nx = std::max(0, at.qx - 1); nx <= std::min(working.width - 1, at.qx + 1); ++nx)
+      fn(nx, ny, (nx - at.fx) * (nx - at.fx) + (ny - at.fy) * (ny - at.fy));
+}
+
+// The working maps must share one size, the camera-size maps another, and
+// the labels and depth their types.
+void CheckUpscaleMaps(const char* who, const std::vector<const cv::Mat*>& working,
+                      const std::vector<const cv::Mat*>& camera, const cv::Mat& working_labels,
+                      const cv::Mat& working_depth, const cv::Mat& labels, const cv::Mat& depth) {
+  U4D_CHECK(working_labels.type() == CV_16UC1 && labels.type() == CV_16UC1 &&
+                working_depth.type() == CV_32FC1 && depth.type() == CV_32FC1,
+            "{}: labels must be CV_16U and depth CV_32F", who);
+  bool same = true;
+  for (const cv::Mat* m : working) same = same && m->size() == working_labels.size();
+  for (const cv::Mat* m : camera) same = same && m->size() == labels.size();
+  U4D_CHECK(same,
+            "{}: the working maps ({}x{}) and the camera-size maps ({}x{}) must each have one size",
+            who, working_labels.cols, working_labels.rows, labels.cols, labels.rows);
+}
+
+}  // namespace
+
 void KeepInitialDetail(const cv::Mat& working_labels, const cv::Mat& working_depth,
                        const cv::Mat& initial_working, const cv::Mat& initial_full, cv::Mat* labels,
                        cv::Mat* depth) {
-  U4D_CHECK(working_labels.type() == CV_16UC1 && initial_working.type() == CV_16UC1 &&
-                initial_full.type() == CV_16UC1 && working_depth.type() == CV_32FC1 &&
-                labels->type() == CV_16UC1 && depth->type() == CV_32FC1,
-            "KeepInitialDetail: labels must be CV_16U and depth CV_32F");
-  U4D_CHECK(working_labels.size() == initial_working.size() &&
-                working_labels.size() == working_depth.size() &&
-                initial_full.size() == labels->size() && initial_full.size() == depth->size(),
-            "KeepInitialDetail: the working maps ({}x{}) and the camera-size maps ({}x{}) must "
-            "each have one size",
-            working_labels.cols, working_labels.rows, initial_full.cols, initial_full.rows);
-  const int ww = working_labels.cols, wh = working_labels.rows;
+  CheckUpscaleMaps("KeepInitialDetail", {&working_depth, &initial_working}, {&initial_full, depth},
+                   working_labels, working_depth, *labels, *depth);
+  U4D_CHECK(initial_working.type() == CV_16UC1 && initial_full.type() == CV_16UC1,
+            "KeepInitialDetail: the initial labels must be CV_16U");
+  const cv::Size working = working_labels.size();
   // Working pixels whose 3x3 neighbourhood the solve left as it was given.
   cv::Mat kept;
   cv::erode(working_labels == initial_working, kept, cv::Mat::ones(3, 3, CV_8U), {-1, -1}, 1,
             cv::BORDER_REPLICATE);
-  const double sx = double(ww) / labels->cols, sy = double(wh) / labels->rows;
-  for (int y = 0; y < labels->rows; ++y) {
-    const double fy = (y + 0.5) * sy - 0.5;
-    const int qy = std::min(wh - 1, static_cast<int>(y * sy));
-    for (int x = 0; x < labels->cols; ++x) {
-      const int qx = std::min(ww - 1, static_cast<int>(x * sx));
-      const int l = initial_full.at<uint16_t>(y, x);
-      if (!kept.at<uint8_t>(qy, qx) || l == labels->at<uint16_t>(y, x)) continue;
-      // The nearest working pixel of the 3x3 holding label l.
-      const double fx = (x + 0.5) * sx - 0.5;
-      double best = 1e9;
-      float z = 0;
-      for (int ny = std::max(0, qy - 1); ny <= std::min(wh - 1, qy + 1); ++ny)
-        for (int nx = std::max(0, qx - 1); nx <= std::min(ww - 1, qx + 1); ++nx) {
-          if (working_labels.at<uint16_t>(ny, nx) != l) continue;
-          const double d = (nx - fx) * (nx - fx) + (ny - fy) * (ny - fy);
-          if (d < best) best = d, z = working_depth.at<float>(ny, nx);
-        }
-      if (best == 1e9) continue;  // l not among the solve's labels there
-      labels->at<uint16_t>(y, x) = static_cast<uint16_t>(l);
-      depth->at<float>(y, x) = l == 0 ? 0.f : z;
-    }
-  }
+  ForEachCameraPixel(working, labels->size(), [&](const WorkingPlace& at) {
+    const int l = initial_full.at<uint16_t>(at.y, at.x);
+    if (!kept.at<uint8_t>(at.qy, at.qx) || l == labels->at<uint16_t>(at.y, at.x)) return;
+    // The nearest working pixel of the 3x3 holding label l.
+    double best = 1e9;
+    float z = 0;
+    ForEachNeighbour(at, working, [&](int nx, int ny, double d2) {
+      if (working_labels.at<uint16_t>(ny, nx) == l && d2 < best)
+        best = d2, z = working_depth.at<float>(ny, nx);
+    });
+    if (best == 1e9) return;  // l not among the solve's labels there
+    labels->at<uint16_t>(at.y, at.x) = static_cast<uint16_t>(l);
+    depth->at<float>(at.y, at.x) = l == 0 ? 0.f : z;
+  });
 }
 
 void GuidedLabels(const cv::Mat& working_labels, const cv::Mat& working_depth,
                   const cv::Mat& working_image, const cv::Mat& full_image, cv::Mat* labels,
                   cv::Mat* depth) {
-  U4D_CHECK(working_labels.type() == CV_16UC1 && working_depth.type() == CV_32FC1 &&
-                working_image.type() == CV_8UC3 && full_image.type() == CV_8UC3 &&
-                labels->type() == CV_16UC1 && depth->type() == CV_32FC1,
-            "GuidedLabels: labels must be CV_16U, depth CV_32F and images BGR 8-bit");
-  U4D_CHECK(working_labels.size() == working_depth.size() &&
-                working_labels.size() == working_image.size() &&
-                full_image.size() == labels->size() && full_image.size() == depth->size(),
-            "GuidedLabels: the working maps ({}x{}) and the camera-size maps ({}x{}) must each "
-            "have one size",
-            working_labels.cols, working_labels.rows, full_image.cols, full_image.rows);
-  const int ww = working_labels.cols, wh = working_labels.rows;
-  // β: the mean squared colour difference of neighbouring working pixels (E_c's).
+  CheckUpscaleMaps("GuidedLabels", {&working_depth, &working_image}, {&full_image, depth},
+                   working_labels, working_depth, *labels, *depth);
+  U4D_CHECK(working_image.type() == CV_8UC3 && full_image.type() == CV_8UC3,
+            "GuidedLabels: the images must be BGR 8-bit");
+  const cv::Size working = working_labels.size();
+  // β: the mean squared colour difference of neighbouring working pixels
+  // (4-neighbours of the whole image; E_c's is over its 8-neighbour pairs).
   double sum = 0;
   long count = 0;
-  for (int y = 0; y < wh; ++y)
-    for (int x = 0; x < ww; ++x) {
+  for (int y = 0; y < working.height; ++y)
+    for (int x = 0; x < working.width; ++x) {
       const cv::Vec3d c = working_image.at<cv::Vec3b>(y, x);
-      if (x + 1 < ww)
+      if (x + 1 < working.width)
         sum += cv::norm(c - cv::Vec3d(working_image.at<cv::Vec3b>(y, x + 1)), cv::NORM_L2SQR),
             ++count;
-      if (y + 1 < wh)
+      if (y + 1 < working.height)
         sum += cv::norm(c - cv::Vec3d(working_image.at<cv::Vec3b>(y + 1, x)), cv::NORM_L2SQR),
             ++count;
     }
@@ -92,47 +127,36 @@ void GuidedLabels(const cv::Mat& working_labels, const cv::Mat& working_depth,
   cv::erode(working_labels, lo, cv::Mat::ones(3, 3, CV_8U), {-1, -1}, 1, cv::BORDER_REPLICATE);
   cv::dilate(working_labels, hi, cv::Mat::ones(3, 3, CV_8U), {-1, -1}, 1, cv::BORDER_REPLICATE);
   const cv::Mat boundary = lo != hi;
-  const double sx = double(ww) / labels->cols, sy = double(wh) / labels->rows;
-  for (int y = 0; y < labels->rows; ++y) {
-    const double fy = (y + 0.5) * sy - 0.5;
-    const int qy = std::min(wh - 1, static_cast<int>(y * sy));
-    for (int x = 0; x < labels->cols; ++x) {
-      const int qx = std::min(ww - 1, static_cast<int>(x * sx));
-      if (!boundary.at<uint8_t>(qy, qx)) continue;
-      const double fx = (x + 0.5) * sx - 0.5;
-      const cv::Vec3d colour = full_image.at<cv::Vec3b>(y, x);
-      // Per label of the 9 working pixels: its summed weight, and the depth
-      // of its heaviest pixel.
-      struct Vote {
-        int label;
-        double weight, heaviest;
-        float depth;
-      };
-      std::array<Vote, 9> votes;
-      int num_votes = 0;
-      for (int ny = std::max(0, qy - 1); ny <= std::min(wh - 1, qy + 1); ++ny)
-        for (int nx = std::max(0, qx - 1); nx <= std::min(ww - 1, qx + 1); ++nx) {
-          const double d2 = (nx - fx) * (nx - fx) + (ny - fy) * (ny - fy);
-          const double c2 =
-              cv::norm(colour - cv::Vec3d(working_image.at<cv::Vec3b>(ny, nx)), cv::NORM_L2SQR);
-          const double w = std::exp(-0.5 * d2 - c2 / (2 * beta));
-          const int l = working_labels.at<uint16_t>(ny, nx);
-          const float z = working_depth.at<float>(ny, nx);
-          Vote* v = std::find_if(votes.begin(), votes.begin() + num_votes,
-                                 [&](const Vote& e) { return e.label == l; });
-          if (v == votes.begin() + num_votes) *v = {l, 0, -1, 0}, ++num_votes;
-          v->weight += w;
-          if (w > v->heaviest) v->heaviest = w, v->depth = z;
-        }
-      const Vote& win = *std::max_element(
-          votes.begin(), votes.begin() + num_votes, [](const Vote& a, const Vote& b) {
-            return a.weight < b.weight || (a.weight == b.weight && a.label > b.label);
-          });
-      const int l = win.label;
-      labels->at<uint16_t>(y, x) = static_cast<uint16_t>(l);
-      depth->at<float>(y, x) = l == 0 ? 0.f : win.depth;
-    }
-  }
+  ForEachCameraPixel(working, labels->size(), [&](const WorkingPlace& at) {
+    if (!boundary.at<uint8_t>(at.qy, at.qx)) return;
+    const cv::Vec3d colour = full_image.at<cv::Vec3b>(at.y, at.x);
+    // Per label of the 9 working pixels: its summed weight, and the depth of
+    // its heaviest pixel.
+    struct Vote {
+      int label;
+      double weight, heaviest;
+      float depth;
+    };
+    std::array<Vote, 9> votes;
+    int num_votes = 0;
+    ForEachNeighbour(at, working, [&](int nx, int ny, double d2) {
+      const double c2 =
+          cv::norm(colour - cv::Vec3d(working_image.at<cv::Vec3b>(ny, nx)), cv::NORM_L2SQR);
+      const double w = std::exp(-0.5 * d2 - c2 / (2 * beta));
+      const int l = working_labels.at<uint16_t>(ny, nx);
+      Vote* v = std::find_if(votes.begin(), votes.begin() + num_votes,
+                             [&](const Vote& e) { return e.label == l; });
+      if (v == votes.begin() + num_votes) *v = {l, 0, -1, 0}, ++num_votes;
+      v->weight += w;
+      if (w > v->heaviest) v->heaviest = w, v->depth = working_depth.at<float>(ny, nx);
+    });
+    const Vote& win = *std::max_element(
+        votes.begin(), votes.begin() + num_votes, [](const Vote& a, const Vote& b) {
+          return a.weight < b.weight || (a.weight == b.weight && a.label > b.label);
+        });
+    labels->at<uint16_t>(at.y, at.x) = static_cast<uint16_t>(win.label);
+    depth->at<float>(at.y, at.x) = win.label == 0 ? 0.f : win.depth;
+  });
 }
 
 ViewMaps ToCameraSize(const JointViewResult& result, int width, int height, double scale,
