@@ -482,7 +482,7 @@ Mesh ParsePly(const std::string& data, const fs::path& path) {
           AddFan(polygon, &m.faces);
         }
       }
-    } else {  // another element: skip its values
+    } else if (!props.empty()) {  // another element: skip its values (none without properties)
       for (int64_t k = 0; k < e.count; ++k)
         for (const PlyProperty& p : props) {
           if (p.count_type.empty()) {
