@@ -39,6 +39,18 @@ void DeclareOptions(OptionRegistry& r, TrackOptions* o) {
         "Jacobi iterations for untracked vertices");
 }
 
+void DeclareOptions(OptionRegistry& r, FlowConsensusOptions* o) {
+  r.Add("enabled", &o->enabled, "each view's flow on objects from the motion all views see");
+  r.Add("min_views", &o->min_views, "views that must see a point for its flow to change");
+  r.Add("visibility_tolerance", &o->visibility_tolerance,
+        "metres between a point's depth and a view's depth map, plus 2 depth_sigma_rel of it");
+  r.Add("depth_sigma_rel", &o->depth_sigma_rel, "the depth maps' relative error");
+  r.Add("max_depth_jump", &o->max_depth_jump, "metres; bilinear depth only across smaller steps");
+  r.Add("robust_scale_px", &o->robust_scale_px,
+        "Cauchy scale of a view's flow residual, working pixels");
+  r.Add("iterations", &o->iterations, "IRLS steps after the two least-squares steps");
+}
+
 void DeclareOptions(OptionRegistry& r, GltfOptions* o) {
   r.Add("fps", &o->fps, "frames per second of the animation");
   r.Add("normals", &o->normals, "write the first frame's vertex normals");

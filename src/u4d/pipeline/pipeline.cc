@@ -18,6 +18,7 @@
 #include "u4d/eval/evaluate.h"
 #include "u4d/eval/scene_consistency.h"
 #include "u4d/eval/segment_drift.h"
+#include "u4d/fusion/flow_consensus.h"
 #include "u4d/fusion/labelled_ply.h"
 #include "u4d/io/capture.h"
 #include "u4d/io/frame_reader.h"
@@ -112,6 +113,17 @@ struct SolvedFrame {
   std::vector<cv::Mat> initial, full_initial;
 };
 
+// The views' flows on objects from the motion all views see
+// (fusion/flow_consensus.h); the cameras have the maps' size.
+void ConsensusFlows(const std::vector<Camera>& cameras_t, const std::vector<Camera>& cameras_t1,
+                    const std::vector<cv::Mat>& labels, const std::vector<cv::Mat>& depth,
+                    const FlowConsensusOptions& options, std::vector<cv::Mat>* flows) {
+  std::vector<FlowConsensusView> views(labels.size());
+  for (size_t v = 0; v < views.size(); ++v)
+    views[v] = {cameras_t[v], cameras_t1[v], labels[v], depth[v], (*flows)[v]};
+  *flows = FlowConsensus(views, options);
+}
+
 SolvedFrame SolveFrame(RunContext& c, int f, const std::vector<std::vector<Pose3d>>& poses,
                        const std::vector<TemporalTrack>& tracks, const JointViewOptions& joint) {
   const int nv = c.NumViews();
@@ -185,6 +197,14 @@ SolvedFrame SolveFrame(RunContext& c, int f, const std::vector<std::vector<Pose3
     }
   });
   c.log.AddSegmentPart("solve", timer.Seconds());
+  timer.Restart();
+  if (c.o.flow_consensus.enabled && !data.cameras_t1.empty()) {
+    std::vector<Camera> cameras_t1;
+    for (const Camera& cam : data.cameras_t1) cameras_t1.push_back(ScaledCamera(cam, scale));
+    ConsensusFlows(solved.cameras, cameras_t1, solved.labels, solved.depth, c.o.flow_consensus,
+                   &solved.flow);
+    c.log.AddSegmentPart("flow_consensus", timer.Seconds());
+  }
   solved.scale = scale;
   solved.full_cameras = data.cameras_t;
   solved.full_images = data.images_t;

@@ -10,9 +10,11 @@
 // segment_parts splits the "segments" stage's time (summed over its frames)
 // into its parts, in the order they first ran: "inputs" (reading the frames
 // and setting up each view's problem), "solve" (the joint view solves, all
-// views at once), "maps" (writing the per-view label, depth and flow maps),
-// "fusion" (one mesh per object), "scene_flow" (tracking the segment's
-// meshes to the next frame) and "animation" (writing the segment's glTF). It
+// views at once), "flow_consensus" (the views' flows combined,
+// fusion/flow_consensus.h), "maps" (the per-view label, depth and flow maps
+// at camera size, written), "fusion" (one mesh per object), "scene_flow"
+// (tracking the segment's meshes to the next frame) and "animation" (writing
+// the segment's glTF). It
 // is optional when read (runs written before it have none), as is
 // empty_frames: the frames in which the initial stage found no object in any
 // view (they stay empty in the scene).

@@ -79,6 +79,7 @@ void RunOptions::Check() const {
   keyframes.Check();
   fusion.Check();
   scene_flow.Check();
+  flow_consensus.Check();
   gltf.Check();
 }
 
@@ -178,6 +179,7 @@ void DeclareOptions(OptionRegistry& r, RunOptions* o) {
   r.Nested("keyframes", &o->keyframes);
   r.Nested("fusion", &o->fusion);
   r.Nested("scene_flow", &o->scene_flow);
+  r.Nested("flow_consensus", &o->flow_consensus);
   r.Nested("gltf", &o->gltf);
 }
 

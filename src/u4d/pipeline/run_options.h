@@ -14,6 +14,7 @@
 #include "u4d/features/sparse_points.h"
 #include "u4d/features/temporal_tracks.h"
 #include "u4d/fusion/depth_fusion.h"
+#include "u4d/fusion/flow_consensus.h"
 #include "u4d/fusion/gltf.h"
 #include "u4d/fusion/scene_flow.h"
 #include "u4d/init/init.h"
@@ -83,6 +84,7 @@ struct RunOptions {
   KeyframeOptions keyframes;
   FusionOptions fusion;
   TrackOptions scene_flow;
+  FlowConsensusOptions flow_consensus;  // the views' flows on objects, combined
   GltfOptions gltf;
 
   void Check() const;  // throws u4d::Error naming the bad field
