@@ -84,6 +84,8 @@ void FrameSetupOptions::Check() const {
             working_width);
   U4D_CHECK(depth_margin_m > 0, "FrameSetupOptions.depth_margin_m must be > 0");
   U4D_CHECK(min_joints_inside >= 1, "FrameSetupOptions.min_joints_inside must be >= 1");
+  U4D_CHECK(flow_window_px > 0 && flow_window_px % 2 == 1,
+            "FrameSetupOptions.flow_window_px must be odd and positive, got {}", flow_window_px);
   pose.Check();
   hull.Check();
 }

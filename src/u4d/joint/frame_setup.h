@@ -78,6 +78,12 @@ struct FrameSetupOptions {
   // boundaries (pipeline/scene_outputs.h GuidedLabels, joint bilateral
   // upsampling); false: nearest neighbour there.
   bool guided_upsampling = true;
+  // The camera-size flow of the objects takes, pixel by pixel, the solve's
+  // flow or the camera-size dense match, whichever keeps the brightness over
+  // a flow_window_px square (pipeline/camera_flow.h); false: the solve's flow
+  // upscaled.
+  bool flow_at_camera_size = true;
+  int flow_window_px = 7;
   void Check() const;
 };
 

@@ -19,6 +19,10 @@ void DeclareOptions(OptionRegistry& r, FrameSetupOptions* o) {
   r.Add("keep_initial_detail", &o->keep_initial_detail,
         "camera-size labels keep the initial masks' detail where the solve kept its input (false: "
         "the working-resolution labels upscaled by nearest neighbour)");
+  r.Add("flow_at_camera_size", &o->flow_at_camera_size,
+        "the objects' camera-size flow takes, per pixel, the solve's flow or the camera-size dense "
+        "match, whichever keeps the brightness over a window (false: the solve's flow upscaled)");
+  r.Add("flow_window_px", &o->flow_window_px, "that window's side, camera pixels (odd)");
   // `pose` (the capsule model) is not declared: it is JointViewOptions::pose,
   // which callers copy in (the pipeline does), so the capsules are one setting.
 }

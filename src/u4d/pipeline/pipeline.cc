@@ -28,6 +28,7 @@
 #include "u4d/io/scene_index.h"
 #include "u4d/io/visualize.h"
 #include "u4d/joint/parameters.h"
+#include "u4d/pipeline/camera_flow.h"
 #include "u4d/pipeline/early_stages.h"
 #include "u4d/pipeline/initial_objects.h"
 #include "u4d/pipeline/object_classes.h"
@@ -111,6 +112,7 @@ struct SolvedFrame {
   // initial object ids at camera size; empty where the view was not solved
   // or frame_setup.keep_initial_detail is off (scene_outputs.h ToCameraSize).
   std::vector<cv::Mat> initial, full_initial;
+  std::vector<cv::Mat> full_images_t1;  // camera size, BGR; empty: no next frame
 };
 
 // The views' flows on objects from the motion all views see
@@ -208,6 +210,7 @@ SolvedFrame SolveFrame(RunContext& c, int f, const std::vector<std::vector<Pose3
   solved.scale = scale;
   solved.full_cameras = data.cameras_t;
   solved.full_images = data.images_t;
+  solved.full_images_t1 = data.images_t1;
   return solved;
 }
 
@@ -220,11 +223,13 @@ void WriteFrameMaps(const RunContext& c, const SolvedFrame& s) {
     r.flow = s.flow[v];
     const Camera& full = s.full_cameras[v];
     const bool guided = c.o.frame_setup.guided_upsampling;
-    WriteViewMaps(
-        c.out, c.names[v], s.frame,
+    ViewMaps maps =
         ToCameraSize(r, full.width, full.height, s.scale, s.initial[v], s.full_initial[v],
-                     guided ? s.images[v] : cv::Mat(), guided ? s.full_images[v] : cv::Mat()),
-        s.full_images[v], c.o.picture_width, c.classes);
+                     guided ? s.images[v] : cv::Mat(), guided ? s.full_images[v] : cv::Mat());
+    if (c.o.frame_setup.flow_at_camera_size && !s.full_images_t1.empty())
+      RefineFlowAtCameraSize(maps.labels, s.full_images[v], s.full_images_t1[v],
+                             c.o.frame_setup.flow_window_px, &maps.flow);
+    WriteViewMaps(c.out, c.names[v], s.frame, maps, s.full_images[v], c.o.picture_width, c.classes);
   }
 }
 

@@ -1,0 +1,28 @@
+// The flow of a view's objects at the camera's size. The joint solve runs at
+// a working resolution (frame_setup.working_width), so its flow, upscaled,
+// carries the working pixel's imprecision into every camera pixel; the
+// camera's image resolves the motion more finely. The paper's e_F^T
+// (brightness constancy, Sec. 2.1) decides, at the camera's size, between
+// the solve's motion and the camera-size dense match, pixel by pixel.
+#pragma once
+
+#include <opencv2/core.hpp>
+
+namespace u4d {
+
+// For every pixel of an object (`labels` > 0) the flow becomes the one of
+// two candidate fields with the lower brightness-constancy error summed over
+// the `window_px` square around it: the solve's flow upscaled (`flow`, in
+// place) and the dense match of `image_t` to `image_t1`
+// (baselines::DenseFlow kDisFine, the solve's own fusion proposal, here at
+// camera size, computed in the objects' bounding box grown by a tenth of
+// the width, at least the window). A field's error at a pixel is |I_t1(p + f(p)) − I_t(p)|
+// summed over the colour channels (I_t1 bilinear, the border replicated).
+// Background pixels (label 0) keep their flow: the camera's, which the
+// solve computes from the calibration. Everything has the camera's size:
+// CV_16U labels, BGR 8-bit images, CV_32FC2 flow. Throws u4d::Error on a
+// size or type mismatch or a window that is not odd and positive.
+void RefineFlowAtCameraSize(const cv::Mat& labels, const cv::Mat& image_t, const cv::Mat& image_t1,
+                            int window_px, cv::Mat* flow);
+
+}  // namespace u4d

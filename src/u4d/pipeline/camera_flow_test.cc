@@ -1,0 +1,119 @@
+#include "u4d/pipeline/camera_flow.h"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "u4d/baselines/dense_flow.h"
+#include "u4d/io/capture.h"
+#include "u4d/io/image_io.h"
+#include "u4d/io/layout.h"
+#include "u4d/synth/generate.h"
+#include "u4d/util/check.h"
+
+namespace u4d {
+namespace {
+
+// The synthetic handshake where the people walk apart (docs/flow.md), 2
+// views at 480x270: view 0 of frame 0 with its GT labels and flow.
+struct Frame {
+  cv::Mat image_t, image_t1, labels, flow, valid;
+};
+
+class CameraFlowTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    synth::SynthOptions o = synth::SmallHandshakeOptions(2, 480, 270, 2);
+    o.start_frame = 128;
+    const Capture c = ReadCapture(synth::WriteCaptureToTempDir("camera_flow_test", o));
+    frame_ = new Frame{ReadColorImage(c.ImagePath(0, 0)), ReadColorImage(c.ImagePath(0, 1)),
+                       ReadLabelImage(c.root / layout::GtInstances(c.views[0].name, 0)),
+                       ReadFlo(c.root / layout::GtFlow(c.views[0].name, 0)),
+                       ReadLabelImage(c.root / layout::GtFlowValid(c.views[0].name, 0))};
+  }
+  static void TearDownTestSuite() { delete frame_; }
+
+  // Mean end-point error against the GT flow over the people's GT-valid pixels.
+  static double PeopleEpe(const cv::Mat& flow) {
+    double sum = 0;
+    long n = 0;
+    for (int y = 0; y < flow.rows; ++y)
+      for (int x = 0; x < flow.cols; ++x) {
+        if (frame_->labels.at<uint16_t>(y, x) == 0 || frame_->valid.at<uint16_t>(y, x) == 0)
+          continue;
+        sum += cv::norm(flow.at<cv::Vec2f>(y, x) - frame_->flow.at<cv::Vec2f>(y, x));
+        ++n;
+      }
+    return sum / std::max(1L, n);
+  }
+
+  static Frame* frame_;
+};
+
+Frame* CameraFlowTest::frame_ = nullptr;
+
+TEST_F(CameraFlowTest, TheCameraSizeMatchReplacesACoarseFlowWhereItKeepsTheBrightness) {
+  const Frame& f = *frame_;
+  ASSERT_GT(PeopleEpe(cv::Mat::zeros(f.flow.size(), CV_32FC2)), 1.0);  // the people move
+  // A working-resolution flow: the truth at a quarter of the size, blurred
+  // and upscaled, then off by a pixel (what a coarse solve's error looks like).
+  cv::Mat coarse;
+  cv::resize(f.flow, coarse, {}, 0.25, 0.25, cv::INTER_AREA);
+  cv::resize(coarse, coarse, f.flow.size(), 0, 0, cv::INTER_LINEAR);
+  coarse += cv::Scalar(1.0, -0.5);
+  const cv::Mat dense =
+      baselines::DenseFlow(baselines::DenseFlowMethod::kDisFine, f.image_t, f.image_t1);
+  cv::Mat refined = coarse.clone();
+  RefineFlowAtCameraSize(f.labels, f.image_t, f.image_t1, 7, &refined);
+  const double before = PeopleEpe(coarse), after = PeopleEpe(refined);
+  EXPECT_LT(after, 0.6 * before) << before;
+  EXPECT_LE(after, PeopleEpe(dense) + 0.05);
+  // The background keeps its flow.
+  const cv::Mat background = f.labels == 0;
+  EXPECT_EQ(cv::norm(refined, coarse, cv::NORM_INF, background), 0);
+}
+
+// Given the true flow, the choice keeps enough of it to stay closer to the
+// truth than the dense match alone.
+TEST_F(CameraFlowTest, TheTrueFlowBeatsTheDenseMatch) {
+  const Frame& f = *frame_;
+  cv::Mat refined = f.flow.clone();
+  RefineFlowAtCameraSize(f.labels, f.image_t, f.image_t1, 7, &refined);
+  const double dense =
+      PeopleEpe(baselines::DenseFlow(baselines::DenseFlowMethod::kDisFine, f.image_t, f.image_t1));
+  EXPECT_LT(PeopleEpe(refined), dense);
+}
+
+// Still is still: the same frame twice, each with its own sensor noise, and
+// the solve's zero flow.
+TEST_F(CameraFlowTest, TheSameFrameTwiceKeepsNoMotion) {
+  const Frame& f = *frame_;
+  cv::Mat noise_t(f.image_t.size(), CV_16SC3), noise_t1(f.image_t.size(), CV_16SC3);
+  cv::theRNG().state = 11;
+  cv::randn(noise_t, 0, 2);
+  cv::randn(noise_t1, 0, 2);
+  cv::Mat image_t, image_t1;
+  cv::add(f.image_t, noise_t, image_t, cv::noArray(), CV_8UC3);
+  cv::add(f.image_t, noise_t1, image_t1, cv::noArray(), CV_8UC3);
+  cv::Mat flow = cv::Mat::zeros(f.flow.size(), CV_32FC2);
+  RefineFlowAtCameraSize(f.labels, image_t, image_t1, 7, &flow);
+  double sum = 0;
+  for (int y = 0; y < flow.rows; ++y)
+    for (int x = 0; x < flow.cols; ++x)
+      if (f.labels.at<uint16_t>(y, x)) sum += cv::norm(flow.at<cv::Vec2f>(y, x));
+  EXPECT_LE(sum / cv::countNonZero(f.labels), 0.05);
+}
+
+TEST_F(CameraFlowTest, BadInputThrows) {
+  const Frame& f = *frame_;
+  cv::Mat flow = f.flow.clone();
+  EXPECT_THROW(RefineFlowAtCameraSize(f.labels, f.image_t, f.image_t1, 6, &flow), Error);
+  cv::Mat small;
+  cv::resize(f.image_t1, small, {}, 0.5, 0.5);
+  EXPECT_THROW(RefineFlowAtCameraSize(f.labels, f.image_t, small, 7, &flow), Error);
+  cv::Mat grey;
+  cv::cvtColor(f.image_t, grey, cv::COLOR_BGR2GRAY);
+  EXPECT_THROW(RefineFlowAtCameraSize(f.labels, grey, f.image_t1, 7, &flow), Error);
+}
+
+}  // namespace
+}  // namespace u4d
