@@ -214,8 +214,11 @@ SolvedFrame SolveFrame(RunContext& c, int f, const std::vector<std::vector<Pose3
   return solved;
 }
 
-// The scene's maps of a solved frame, at camera size.
-void WriteFrameMaps(const RunContext& c, const SolvedFrame& s) {
+// The scene's maps of a solved frame, at camera size. With
+// frame_setup.flow_at_camera_size the objects' camera-size flow, area-averaged
+// to the working resolution, also replaces s.flow on their pixels: the scene
+// flow (WriteFrameOutputs) moves the meshes with the finer motion.
+void WriteFrameMaps(const RunContext& c, SolvedFrame& s) {
   for (size_t v = 0; v < s.labels.size(); ++v) {
     JointViewResult r;
     r.labels = s.labels[v];
@@ -226,9 +229,14 @@ void WriteFrameMaps(const RunContext& c, const SolvedFrame& s) {
     ViewMaps maps =
         ToCameraSize(r, full.width, full.height, s.scale, s.initial[v], s.full_initial[v],
                      guided ? s.images[v] : cv::Mat(), guided ? s.full_images[v] : cv::Mat());
-    if (c.o.frame_setup.flow_at_camera_size && !s.full_images_t1.empty())
+    if (c.o.frame_setup.flow_at_camera_size && !s.full_images_t1.empty()) {
       RefineFlowAtCameraSize(maps.labels, s.full_images[v], s.full_images_t1[v],
                              c.o.frame_setup.flow_window_px, &maps.flow);
+      cv::Mat working;
+      cv::resize(maps.flow, working, s.flow[v].size(), 0, 0, cv::INTER_AREA);
+      working *= s.scale;
+      working.copyTo(s.flow[v], s.labels[v] > 0);
+    }
     WriteViewMaps(c.out, c.names[v], s.frame, maps, s.full_images[v], c.o.picture_width, c.classes);
   }
 }
@@ -246,7 +254,7 @@ std::set<int> ObjectIds(const SolvedFrame& s) {
 // frame also starts each object's animation) and the animations tracked from
 // `previous` (frame f - 1, null at the segment's first frame) to it. Adds the
 // parts' seconds to `parts`.
-void WriteFrameOutputs(const RunContext& c, const Segment& seg, const SolvedFrame& current,
+void WriteFrameOutputs(const RunContext& c, const Segment& seg, SolvedFrame& current,
                        const SolvedFrame* previous, std::map<int, AnimatedMesh>& animations,
                        RunLog& parts) {
   Timer timer;
