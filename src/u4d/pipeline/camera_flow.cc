@@ -40,6 +40,10 @@ cv::Rect ObjectBox(const cv::Mat& labels, int margin) {
   return grown & cv::Rect(0, 0, labels.cols, labels.rows);
 }
 
+// OpenCV's DIS needs an image side of at least 12 pixels; the crop's
+// margin is at least this, and a smaller image is not matched.
+constexpr int kMinMatchSide = 16;
+
 }  // namespace
 
 void RefineFlowAtCameraSize(const cv::Mat& labels, const cv::Mat& image_t, const cv::Mat& image_t1,
@@ -54,10 +58,11 @@ void RefineFlowAtCameraSize(const cv::Mat& labels, const cv::Mat& image_t, const
             "RefineFlowAtCameraSize: the labels ({}x{}), images and flow must have one size",
             labels.cols, labels.rows);
   if (cv::countNonZero(labels) == 0) return;
+  if (labels.cols < kMinMatchSide && labels.rows < kMinMatchSide) return;
   // The dense match is computed around the objects only: a margin of a
   // tenth of the width (at least the window) keeps the match's own border
   // effects and the objects' motion inside the crop.
-  const cv::Rect roi = ObjectBox(labels, std::max(window_px, labels.cols / 10));
+  const cv::Rect roi = ObjectBox(labels, std::max({window_px, labels.cols / 10, kMinMatchSide}));
   const cv::Mat dense =
       baselines::DenseFlow(baselines::DenseFlowMethod::kDisFine, image_t(roi), image_t1(roi));
   cv::Mat solved = (*flow)(roi);

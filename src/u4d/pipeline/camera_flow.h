@@ -16,8 +16,10 @@ namespace u4d {
 // place) and the dense match of `image_t` to `image_t1`
 // (baselines::DenseFlow kDisFine, the solve's own fusion proposal, here at
 // camera size, computed in the objects' bounding box grown by a tenth of
-// the width, at least the window). A field's error at a pixel is |I_t1(p + f(p)) − I_t(p)|
-// summed over the colour channels (I_t1 bilinear, the border replicated).
+// the width, at least the window and 16 pixels; an image under 16 pixels
+// on both sides keeps its flow). A field's error at a pixel is
+// |I_t1(p + f(p)) − I_t(p)| summed over the colour channels (I_t1
+// bilinear, the border replicated).
 // Background pixels (label 0) keep their flow: the camera's, which the
 // solve computes from the calibration. Everything has the camera's size:
 // CV_16U labels, BGR 8-bit images, CV_32FC2 flow. Throws u4d::Error on a

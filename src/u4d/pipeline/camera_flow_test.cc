@@ -103,6 +103,27 @@ TEST_F(CameraFlowTest, TheSameFrameTwiceKeepsNoMotion) {
   EXPECT_LE(sum / cv::countNonZero(f.labels), 0.05);
 }
 
+// An object of one pixel in a corner, and an image too small for the dense
+// match: no error, and the tiny image keeps its flow.
+TEST(CameraFlow, TinyObjectsAndImagesAreHandled) {
+  for (const cv::Size size : {cv::Size(64, 36), cv::Size(10, 8)}) {
+    cv::Mat image_t(size, CV_8UC3), image_t1(size, CV_8UC3);
+    cv::theRNG().state = 5;
+    cv::randu(image_t, 0, 255);
+    cv::randu(image_t1, 0, 255);
+    cv::Mat labels = cv::Mat::zeros(size, CV_16U);
+    labels.at<uint16_t>(size.height - 1, size.width - 1) = 1;
+    const cv::Mat before(size, CV_32FC2, cv::Scalar(0.5f, -0.5f));
+    cv::Mat flow = before.clone();
+    ASSERT_NO_THROW(RefineFlowAtCameraSize(labels, image_t, image_t1, 7, &flow)) << size;
+    const cv::Mat background = labels == 0;
+    EXPECT_EQ(cv::norm(flow, before, cv::NORM_INF, background), 0) << size;
+    if (size.width < 16) {
+      EXPECT_EQ(cv::norm(flow, before, cv::NORM_INF), 0);
+    }
+  }
+}
+
 TEST_F(CameraFlowTest, BadInputThrows) {
   const Frame& f = *frame_;
   cv::Mat flow = f.flow.clone();
