@@ -68,4 +68,26 @@ double SampleObjectDepth(const cv::Mat& depth, const cv::Mat& ids, int object_id
   return ok(xn, yn) ? depth.at<float>(yn, xn) : 0.0;
 }
 
+Eigen::Vector2d SampleObjectFlow(const cv::Mat& flow, const cv::Mat& ids, int object_id,
+                                 const Eigen::Vector2d& pixel) {
+  const int x0 = static_cast<int>(std::floor(pixel.x()));
+  const int y0 = static_cast<int>(std::floor(pixel.y()));
+  auto ok = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < flow.cols && y < flow.rows &&
+           (ids.empty() || ids.at<uint16_t>(y, x) == object_id);
+  };
+  auto f = [&](int x, int y) {
+    const cv::Vec2f& v = flow.at<cv::Vec2f>(y, x);
+    return Eigen::Vector2d(v[0], v[1]);
+  };
+  if (ok(x0, y0) && ok(x0 + 1, y0) && ok(x0, y0 + 1) && ok(x0 + 1, y0 + 1)) {
+    const double ax = pixel.x() - x0, ay = pixel.y() - y0;
+    return (1 - ay) * ((1 - ax) * f(x0, y0) + ax * f(x0 + 1, y0)) +
+           ay * ((1 - ax) * f(x0, y0 + 1) + ax * f(x0 + 1, y0 + 1));
+  }
+  const int xn = std::clamp(static_cast<int>(std::lround(pixel.x())), 0, flow.cols - 1);
+  const int yn = std::clamp(static_cast<int>(std::lround(pixel.y())), 0, flow.rows - 1);
+  return f(xn, yn);
+}
+
 }  // namespace u4d::fusion_internal

@@ -13,6 +13,7 @@ namespace u4d {
 using fusion_internal::CheckMap;
 using fusion_internal::SampleId;
 using fusion_internal::SampleObjectDepth;
+using fusion_internal::SampleObjectFlow;
 
 void FlowConsensusOptions::Check() const {
   U4D_CHECK(min_views >= 2, "flow_consensus.min_views must be >= 2, got {}", min_views);
@@ -37,28 +38,6 @@ struct Observation {
   Eigen::Vector2d moved;
 };
 
-// The flow at `q` bilinear over the four neighbours that carry `label`
-// (renormalised); NaN when none does.
-Eigen::Vector2d SampleLabelFlow(const cv::Mat& flow, const cv::Mat& labels, int label,
-                                const Eigen::Vector2d& q) {
-  const int x0 = static_cast<int>(std::floor(q.x())), y0 = static_cast<int>(std::floor(q.y()));
-  const double ax = q.x() - x0, ay = q.y() - y0;
-  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-  double weight = 0;
-  for (int dy = 0; dy <= 1; ++dy)
-    for (int dx = 0; dx <= 1; ++dx) {
-      const int x = x0 + dx, y = y0 + dy;
-      if (x < 0 || y < 0 || x >= flow.cols || y >= flow.rows) continue;
-      if (labels.at<uint16_t>(y, x) != label) continue;
-      const double w = (dx ? ax : 1 - ax) * (dy ? ay : 1 - ay);
-      const cv::Vec2f f = flow.at<cv::Vec2f>(y, x);
-      sum += w * Eigen::Vector2d(f[0], f[1]);
-      weight += w;
-    }
-  if (weight < 1e-9) return Eigen::Vector2d::Constant(std::nan(""));
-  return sum / weight;
-}
-
 // The views that see `point` of object `label`, with where it moves in each.
 std::vector<Observation> Observe(const std::vector<FlowConsensusView>& views,
                                  const Eigen::Vector3d& point, int label,
@@ -72,9 +51,8 @@ std::vector<Observation> Observe(const std::vector<FlowConsensusView>& views,
     const double z = u.camera_t.Depth(point);
     const double d = SampleObjectDepth(u.depth, u.labels, label, q, o.max_depth_jump);
     if (d <= 0 || std::abs(z - d) > o.visibility_tolerance + 2 * o.depth_sigma_rel * z) continue;
-    const Eigen::Vector2d f = SampleLabelFlow(u.flow, u.labels, label, q);
-    if (!std::isfinite(f.x())) continue;
-    seen.push_back({&u.camera_t1, q + f});
+    // The nearest pixel is the object's (above), so the flow is the object's.
+    seen.push_back({&u.camera_t1, q + SampleObjectFlow(u.flow, u.labels, label, q)});
   }
   return seen;
 }

@@ -14,7 +14,8 @@
 //            its image, carries label l there, and the depth of l at q_u
 //            (bilinear, fusion/depth_sampling.h) is within
 //            visibility_tolerance + 2 depth_sigma_rel z of z_u(X);
-//   moved    m_u = q_u + flow_u(q_u) (bilinear within the label);
+//   moved    m_u = q_u + flow_u(q_u) (bilinear where the four neighbours
+//            carry l, else the nearest pixel's; fusion/depth_sampling.h);
 //   motion   Y minimises sum_u rho(|Project_{u,t+1}(Y) - m_u|) with rho the
 //            Cauchy loss of scale robust_scale_px: Gauss-Newton from
 //            Y0 = Unproject_{v,t+1}(p + flow_v(p), depth_v(p)) (the view's

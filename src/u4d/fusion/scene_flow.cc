@@ -15,6 +15,7 @@ namespace u4d {
 using fusion_internal::CheckMap;
 using fusion_internal::SampleId;
 using fusion_internal::SampleObjectDepth;
+using fusion_internal::SampleObjectFlow;
 
 void TrackOptions::Check() const {
   U4D_CHECK(visibility_tolerance > 0, "TrackOptions.visibility_tolerance must be > 0, found {}",
@@ -46,28 +47,6 @@ void CheckView(const SceneFlowView& v, int i) {
   if (!v.instances_t1.empty())
     CheckMap(v.instances_t1, CV_16UC1, v.camera_t1.width, v.camera_t1.height,
              ctx + " instances_t1");
-}
-
-// Flow at p: bilinear when the four neighbours are the object's, else nearest.
-Eigen::Vector2d SampleFlow(const cv::Mat& flow, const cv::Mat& ids, int object_id,
-                           const Eigen::Vector2d& p) {
-  const int x0 = static_cast<int>(std::floor(p.x())), y0 = static_cast<int>(std::floor(p.y()));
-  auto ok = [&](int x, int y) {
-    return x >= 0 && y >= 0 && x < flow.cols && y < flow.rows &&
-           (ids.empty() || ids.at<uint16_t>(y, x) == object_id);
-  };
-  auto f = [&](int x, int y) {
-    const cv::Vec2f& v = flow.at<cv::Vec2f>(y, x);
-    return Eigen::Vector2d(v[0], v[1]);
-  };
-  if (ok(x0, y0) && ok(x0 + 1, y0) && ok(x0, y0 + 1) && ok(x0 + 1, y0 + 1)) {
-    const double ax = p.x() - x0, ay = p.y() - y0;
-    return (1 - ay) * ((1 - ax) * f(x0, y0) + ax * f(x0 + 1, y0)) +
-           ay * ((1 - ax) * f(x0, y0 + 1) + ax * f(x0 + 1, y0 + 1));
-  }
-  const int xn = std::clamp(static_cast<int>(std::lround(p.x())), 0, flow.cols - 1);
-  const int yn = std::clamp(static_cast<int>(std::lround(p.y())), 0, flow.rows - 1);
-  return f(xn, yn);
 }
 
 // One view's evidence on where a vertex is at t+1: it projects to `q` and
@@ -183,7 +162,7 @@ TrackResult TrackVertices(const std::vector<Eigen::Vector3d>& vertices,
       if (d0 <= 0 ||
           std::abs(z - d0) > options.visibility_tolerance + 2 * options.depth_sigma_rel * z)
         continue;
-      const Eigen::Vector2d q = p + SampleFlow(v.flow, v.instances_t, object_id, p);
+      const Eigen::Vector2d q = p + SampleObjectFlow(v.flow, v.instances_t, object_id, p);
       if (!std::isfinite(q.x()) || !v.camera_t1.InImage(q)) continue;
       if (!v.instances_t1.empty() && SampleId(v.instances_t1, q) != object_id) continue;
       const double d1 =

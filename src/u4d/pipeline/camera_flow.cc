@@ -12,9 +12,10 @@ namespace u4d {
 namespace {
 
 // |I_t1(p + f(p)) − I_t(p)| summed over the channels, then over the window,
-// for the pixels of `roi` (`flow` holds the roi's flow; I_t1 is sampled in
-// the whole image, so a match leaving the roi is still measured).
-cv::Mat WindowError(const cv::Mat& image_t, const cv::Mat& image_t1, const cv::Rect& roi,
+// for the pixels of `roi` (`flow` holds the roi's flow; `t_roi` is I_t in
+// the roi and `t1` the whole I_t1, so a match leaving the roi is still
+// measured; both CV_32FC3).
+cv::Mat WindowError(const cv::Mat& t_roi, const cv::Mat& t1, const cv::Rect& roi,
                     const cv::Mat& flow, int window_px) {
   cv::Mat map(flow.size(), CV_32FC2);
   for (int y = 0; y < flow.rows; ++y)
@@ -22,11 +23,9 @@ cv::Mat WindowError(const cv::Mat& image_t, const cv::Mat& image_t1, const cv::R
       const cv::Vec2f f = flow.at<cv::Vec2f>(y, x);
       map.at<cv::Vec2f>(y, x) = cv::Vec2f(roi.x + x + f[0], roi.y + y + f[1]);
     }
-  cv::Mat warped, t, diff, summed, window;
-  image_t1.convertTo(warped, CV_32F);
-  cv::remap(warped, warped, map, cv::Mat(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
-  image_t(roi).convertTo(t, CV_32F);
-  cv::absdiff(warped, t, diff);
+  cv::Mat warped, diff, summed, window;
+  cv::remap(t1, warped, map, cv::Mat(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  cv::absdiff(warped, t_roi, diff);
   cv::transform(diff, summed, cv::Matx13f(1, 1, 1));
   cv::boxFilter(summed, window, CV_32F, cv::Size(window_px, window_px));
   return window;
@@ -65,9 +64,12 @@ void RefineFlowAtCameraSize(const cv::Mat& labels, const cv::Mat& image_t, const
   const cv::Rect roi = ObjectBox(labels, std::max({window_px, labels.cols / 10, kMinMatchSide}));
   const cv::Mat dense =
       baselines::DenseFlow(baselines::DenseFlowMethod::kDisFine, image_t(roi), image_t1(roi));
+  cv::Mat t_roi, t1;
+  image_t(roi).convertTo(t_roi, CV_32F);
+  image_t1.convertTo(t1, CV_32F);
   cv::Mat solved = (*flow)(roi);
-  const cv::Mat take = (WindowError(image_t, image_t1, roi, dense, window_px) <
-                        WindowError(image_t, image_t1, roi, solved, window_px)) &
+  const cv::Mat take = (WindowError(t_roi, t1, roi, dense, window_px) <
+                        WindowError(t_roi, t1, roi, solved, window_px)) &
                        (labels(roi) > 0);
   dense.copyTo(solved, take);
 }
