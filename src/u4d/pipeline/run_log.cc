@@ -39,19 +39,19 @@ void RunLog::AddSegmentPart(const std::string& name, double seconds) {
 
 std::string RunLog::FormatTable() const {
   std::string out =
-      fmt::format("{:<12} {:>10} {:>14} {:>7}\n", "stage", "seconds", "peak memory", "items");
+      fmt::format("{:<16} {:>10} {:>14} {:>7}\n", "stage", "seconds", "peak memory", "items");
   double total = 0;
   int64_t peak = 0;
   for (const StageReport& s : stages) {
-    out += fmt::format("{:<12} {:>10.1f} {:>11.0f} MB {:>7}\n", s.name, s.seconds,
+    out += fmt::format("{:<16} {:>10.1f} {:>11.0f} MB {:>7}\n", s.name, s.seconds,
                        s.peak_rss_bytes / 1048576.0, s.items);
     total += s.seconds;
     peak = std::max(peak, s.peak_rss_bytes);
     if (s.name == "segments")
       for (const PartTime& part : segment_parts)
-        out += fmt::format("  {:<10} {:>10.1f}\n", part.name, part.seconds);
+        out += fmt::format("  {:<14} {:>10.1f}\n", part.name, part.seconds);
   }
-  out += fmt::format("{:<12} {:>10.1f} {:>11.0f} MB\n", "total", total, peak / 1048576.0);
+  out += fmt::format("{:<16} {:>10.1f} {:>11.0f} MB\n", "total", total, peak / 1048576.0);
   return out;
 }
 
