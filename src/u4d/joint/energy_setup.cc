@@ -45,7 +45,8 @@ std::vector<cv::Mat> SemanticLabelMaps(const JointViewInput& in) {
   std::vector<cv::Mat> maps = {in.initial_labels};
   const cv::Mat& ref = in.images_t[in.ref_view];
   for (const LabelledImage& li : in.appearance_training) {
-    if (li.labels.data == in.initial_labels.data || li.image.data == ref.data) continue;
+    if (li.labels.data == in.initial_labels.data || li.image.data == ref.data || li.other_view)
+      continue;
     if (li.image.size() != ref.size() || li.labels.size() != ref.size() ||
         li.labels.type() != CV_16UC1)
       continue;

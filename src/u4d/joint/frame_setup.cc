@@ -24,23 +24,23 @@ cv::Mat Resize(const cv::Mat& image, const Camera& working, int interpolation) {
 
 // Each view's objects' regions grow by their leave-one-out visual hull from
 // the other views' initial labels (hull_support.h); the map goes to E_sem.
-// An object without a pose claims the people's pixels (a box the detector
-// merged with its holder in this view); the pixels it takes there are no
-// colour sample of the person at t. An object whose region stays empty (not
-// in this view's labels, and not found in the people's) leaves the view.
+// Every object claims the others' pixels (a box the detector merged with its
+// holder in this view, a person merged with the one in front); the pixels it
+// takes there are no colour sample of the other at t. An object whose region
+// stays empty (not in this view's labels, and not found in its image) leaves
+// the view.
 void AddHullSupport(const std::vector<Camera>& cameras, const HullSupportOptions& options,
                     std::vector<JointViewInput>* inputs) {
   std::vector<cv::Mat> labels;
   for (const JointViewInput& in : *inputs) labels.push_back(in.initial_labels);
   for (size_t v = 0; v < inputs->size(); ++v) {
     JointViewInput& in = (*inputs)[v];
-    std::vector<int> people;
-    for (const PersonPose& p : in.people) people.push_back(p.object_id);
     std::vector<HullObject> objects;
     for (const JointObject& obj : in.objects) {
-      const bool posed = std::find(people.begin(), people.end(), obj.id) != people.end();
-      objects.push_back(
-          {obj.id, obj.depth_near, obj.depth_far, posed ? std::vector<int>{} : people});
+      std::vector<int> others;
+      for (const JointObject& other : in.objects)
+        if (other.id != obj.id) others.push_back(other.id);
+      objects.push_back({obj.id, obj.depth_near, obj.depth_far, others});
     }
     if (objects.empty()) continue;
     in.hull_support = HullSupport(cameras, labels, static_cast<int>(v), objects, options);
@@ -75,6 +75,46 @@ void AddHullSupport(const std::vector<Camera>& cameras, const HullSupportOptions
         if (const int o = inner.at<uint16_t>(y, x); o > 0 && o < in.num_labels)
           in.markers[o].emplace_back(x, y);
   }
+}
+
+// The labels of the view at t whose pixels object `id` claims (hull_support).
+std::set<int> ClaimedLabels(const JointViewInput& in, int id) {
+  std::set<int> out;
+  if (in.hull_support.empty()) return out;
+  for (int y = 0; y < in.initial_labels.rows; ++y)
+    for (int x = 0; x < in.initial_labels.cols; ++x)
+      if (in.hull_support.at<uint16_t>(y, x) == id)
+        if (const int l = in.initial_labels.at<uint16_t>(y, x); l != 0) out.insert(l);
+  return out;
+}
+
+// An object of a view's solve that the view's labels at t lack (missed, or
+// merged into another object there) has no colour sample of its own: E_a
+// would forbid it. It borrows its pixels in the other views at t (images of
+// the view's size), which see the same clothes. Where it is merged into
+// another object at t, that object's labels at t−1 and t+1 in the view likely
+// hold it too (the same detector): they give no colour sample.
+void BorrowColourSamples(std::vector<JointViewInput>* inputs) {
+  for (JointViewInput& in : *inputs)
+    for (const JointObject& obj : in.objects) {
+      if (cv::countNonZero(in.initial_labels == obj.id) > 0) continue;
+      const std::set<int> merged_into = ClaimedLabels(in, obj.id);
+      for (LabelledImage& li : in.appearance_training) {
+        if (li.other_view || li.labels.data == in.appearance_training.front().labels.data) continue;
+        li.labels = li.labels.clone();
+        for (const int l : merged_into) li.labels.setTo(kUnsampledLabel, li.labels == l);
+      }
+      for (const JointViewInput& other : *inputs) {
+        const cv::Mat own = other.initial_labels == obj.id;
+        if (&other == &in || other.initial_labels.size() != in.initial_labels.size() ||
+            cv::countNonZero(own) == 0)
+          continue;
+        cv::Mat labels(own.size(), CV_16U, cv::Scalar(kUnsampledLabel));
+        labels.setTo(obj.id, own);
+        in.appearance_training.push_back(
+            {other.images_t[other.ref_view], labels, /*other_view=*/true});
+      }
+    }
 }
 
 }  // namespace
@@ -299,15 +339,17 @@ std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
         JointObject obj;
         obj.id = id;
         obj.region = in.initial_labels == id;
-        // Not in this view's labels, it may still be in the people's (AddHullSupport).
-        const bool may_be_merged = options.hull.enabled && !people.empty();
-        if ((cv::countNonZero(obj.region) == 0 && !may_be_merged) || person_ids.count(id)) continue;
+        // Not in this view's labels, it may still be in another object's or
+        // missed (AddHullSupport).
+        if ((cv::countNonZero(obj.region) == 0 && !options.hull.enabled) || person_ids.count(id))
+          continue;
         obj.depth_near = range.first;
         obj.depth_far = range.second;
         in.objects.push_back(obj);
       }
   });
   if (options.hull.enabled) AddHullSupport(cams_t, options.hull, &inputs);
+  BorrowColourSamples(&inputs);
   return inputs;
 }
 

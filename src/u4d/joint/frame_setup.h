@@ -25,7 +25,12 @@
 //
 // With or without poses, each object's region in a view then also holds the
 // pixels its visual hull from the other views covers (hull_support.h), and
-// JointViewInput::hull_support records them for E_sem.
+// JointViewInput::hull_support records them for E_sem. An object with a
+// depth range in a view but none of its pixels there (the detector missed
+// it, or merged it into another object) is searched for by its hull alone,
+// and its colour model (E_a) is learnt from its pixels in the other views at
+// t; where it is merged into another object, that object's labels at t−1 and
+// t+1 in the view give no colour sample (they likely hold it too).
 #pragma once
 
 #include <map>

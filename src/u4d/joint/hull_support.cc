@@ -66,21 +66,22 @@ std::vector<Voter> VotersOf(const std::vector<Camera>& cameras, const std::vecto
 }
 
 // The rectangle of `ref`'s pixels searched for object `id`: around its own
-// pixels, and over the pixels of the labels it claims (empty when the view
-// has none of either).
+// pixels, and over the pixels of the labels it claims; the whole image when
+// the view has none of its pixels (missed there, or merged into another
+// object).
 cv::Rect SearchBox(const cv::Mat& ref_labels, const HullObject& obj) {
-  cv::Rect out;
+  const cv::Rect image(0, 0, ref_labels.cols, ref_labels.rows);
   const cv::Mat own = ref_labels == obj.id;
-  if (cv::countNonZero(own) > 0) {
-    const cv::Rect box = cv::boundingRect(own);
-    const int grow = static_cast<int>(std::ceil(kSearchShareOfHeight * box.height));
-    out = cv::Rect(box.x - grow, box.y - grow, box.width + 2 * grow, box.height + 2 * grow);
-  }
+  // Missed in this view: anywhere.
+  if (cv::countNonZero(own) == 0) return image;
+  const cv::Rect box = cv::boundingRect(own);
+  const int grow = static_cast<int>(std::ceil(kSearchShareOfHeight * box.height));
+  cv::Rect out(box.x - grow, box.y - grow, box.width + 2 * grow, box.height + 2 * grow);
   for (const int claim : obj.claims) {
     const cv::Mat claimed = ref_labels == claim;
     if (cv::countNonZero(claimed) > 0) out |= cv::boundingRect(claimed);
   }
-  return out & cv::Rect(0, 0, ref_labels.cols, ref_labels.rows);
+  return out & image;
 }
 
 bool Claims(const HullObject& obj, int label) {

@@ -16,16 +16,22 @@
 // the same role when no pose is given, and an addition to the capsules when
 // one is (frame_setup.h). Only pixels that v's labels put on the background,
 // or on one of the object's `claims`, are tested (and the map is 0 on the
-// others); a pixel supported by several objects takes the nearest one. The
-// claims are the people, for an object without a pose: a detector merges a
-// box with the person holding it in some views, and there the box's pixels
-// carry the person's label. The map widens the solve's region and relaxes
-// E_sem there (the detector's background, or the claimed person, at p is
-// contradicted by the other views: E_sem does not prefer it over o; the
-// claimed pixels are no colour sample of the person, and with colour_samples
-// E_a's colour models sample the supported pixels as o, not as the
-// background: frame_setup.cc), so E_a, E_c, E_d and the person's E_p decide
-// the label.
+// others): near the object's own pixels, over the claimed labels' pixels,
+// and over the whole image when v's labels lack the object (a person the
+// detector missed in v). A pixel supported by several objects takes the
+// nearest one. The claims are the other objects of the view: a detector
+// merges a box with the person holding it, or two people one behind the
+// other, in some views, and there the one's pixels carry the other's label.
+// The visual hull cannot tell which of two overlapping objects is in front
+// (the space in front of the one behind projects into the one in front in
+// every view), so the claim covers the whole of o's hull in the other's
+// pixels, and the solve's data terms decide. The map widens the solve's
+// region and relaxes E_sem there (the detector's background, or the claimed
+// object, at p is contradicted by the other views: E_sem does not prefer it
+// over o; the claimed pixels are no colour sample of the other object, and
+// with colour_samples E_a's colour models sample the supported pixels as o,
+// not as the background: frame_setup.cc), so E_a, E_c, E_d and a person's
+// E_p decide the label.
 #pragma once
 
 #include <vector>

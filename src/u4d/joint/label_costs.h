@@ -75,6 +75,9 @@ inline constexpr uint16_t kUnsampledLabel = 65535;
 struct LabelledImage {
   cv::Mat image;   // BGR 8-bit
   cv::Mat labels;  // CV_16U
+  // Another view's image at t, lending colour samples of an object the
+  // view's own labels lack (joint/frame_setup.h): E_a only, not E_sem.
+  bool other_view = false;
 };
 
 // E_a for labels 0..num_labels-1 on `image`. `markers[l]` are extra

@@ -276,9 +276,11 @@ FrameObjects ObjectsFromSparse(const std::vector<Camera>& cameras,
     out.ids[v] = Relabel(ids16, new_id);
     for (const auto& object_regions : regions) {
       const ObjectRegion& r = object_regions[v];
-      // Beside people, an object not detected in this view may be merged
-      // with one of them there: it gets its depth range all the same.
-      if (!link.count(r.instance) || (!r.detected && detector.unknown == nullptr)) continue;
+      // An object not detected in this view may be merged with another
+      // there, or missed: it gets its depth range all the same, and the
+      // solve looks for it where the other views put it
+      // (joint/hull_support.h).
+      if (!link.count(r.instance)) continue;
       double near = r.depth_near, far = r.depth_far;
       bool usable = r.depth_source == DepthSource::kSparsePoints;
       if (!usable) {

@@ -20,7 +20,10 @@
 // that most of its silhouette points' other observations belong to. A view
 // where an object has neither enough feature points nor enough silhouette
 // points (RegionOptions::min_points) gets no depth range for it, and the
-// object's pixels there go back to background. Masks whose ids are already
+// object's pixels there go back to background. A view that did not detect
+// an object (missed, or merged into another) gets its depth range all the
+// same where its points project (the solve looks for it there,
+// joint/frame_setup.h). Masks whose ids are already
 // alike across views (init.h's step 6) skip the association: mask id k is
 // object k.
 // Identities through time: an object takes the id of the nearest tracked
@@ -176,10 +179,7 @@ FrameObjects ObjectsFromPosesAndOthers(
 //    not among the masks: the people, when the masks hold the objects
 //    without a pose. A silhouette point projecting there abstains in that
 //    view (SilhouettePoints), so that a box the detector merged with the
-//    person holding it in half the views is not carved out of the hull;
-//    and every object gets a depth range in every view its points project
-//    into, also where it is not detected (the solve may find it in a
-//    person's pixels there, joint/hull_support.h).
+//    person holding it in half the views is not carved out of the hull.
 struct DetectorContext {
   const InstanceClasses* classes = nullptr;
   const std::vector<cv::Mat>* unknown = nullptr;
