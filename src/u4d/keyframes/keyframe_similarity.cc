@@ -267,6 +267,13 @@ KeyframeTerms Terms(const KeyframeObservations& obs, const Prepared& prep, int v
   return t;
 }
 
+// The median of `v` (the mean of the middle two for an even count).
+double MiddleValue(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t h = v.size() / 2;
+  return v.size() % 2 ? v[h] : 0.5 * (v[h - 1] + v[h]);
+}
+
 }  // namespace
 
 KeyframeTerms KeyframeTermsAt(const KeyframeObservations& obs, int view, int i, int j,
@@ -326,7 +333,26 @@ Eigen::MatrixXd CombineKeyframeTerms(const KeyframeTermMatrices& t,
 
 Eigen::MatrixXd KeyframeSimilarityMatrix(const KeyframeObservations& obs,
                                          const KeyframeOptions& options) {
-  return CombineKeyframeTerms(ComputeKeyframeTermMatrices(obs, options), options);
+  if (!options.view_median)
+    return CombineKeyframeTerms(ComputeKeyframeTermMatrices(obs, options), options);
+  options.Check();
+  U4D_CHECK(obs.NumViews() >= 1, "KeyframeSimilarityMatrix: no views");
+  const Prepared prep = Prepare(obs);
+  const int n = obs.num_frames;
+  Eigen::MatrixXd ks = Eigen::MatrixXd::Ones(n, n);
+  std::vector<double> per_view(obs.NumViews());
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 1; b < n; ++b) {
+      for (int v = 0; v < obs.NumViews(); ++v) {
+        const KeyframeTerms t = Terms(obs, prep, v, a, b, options);
+        const double sum = (options.use_correspondence ? t.m : 0) +
+                           (options.use_semantic ? t.l : 0) + (options.use_distance ? t.d : 0) +
+                           (options.use_pose ? t.p : 0) + (options.use_shape ? t.i : 0);
+        per_view[v] = 1.0 - sum / options.NumTerms();
+      }
+      ks(a, b) = ks(b, a) = MiddleValue(per_view);
+    }
+  return ks;
 }
 
 void KeyframeSelectOptions::Check() const {

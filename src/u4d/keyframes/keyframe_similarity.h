@@ -17,7 +17,9 @@
 //      aligning their centroids; an unmatched object counts 1
 // Switching a term off (KeyframeOptions::use_*) drops it and divides by the
 // number of terms left instead of 5, so KS stays in [0, 1]; with all five on
-// this is exactly the paper's equation. KS_ii = 1.
+// and view_median off this is exactly the paper's equation. With view_median
+// (the default) KS_ij is the median over the views c of
+// 1 - (M^c_ij + L^c_ij + D^c_ij + P^c_ij + I^c_ij) / 5. KS_ii = 1.
 //
 // Selection: frames i, j are similar when KS_ij > threshold (0.75, the
 // paper's). Greedy cover (KeyframeSelectOptions): repeatedly the frame whose
@@ -73,6 +75,12 @@ struct KeyframeOptions {
   double pose_scale_m = 0.3;
   // Two poses with fewer common joints (confidence > 0) count as dissimilar (P = 1).
   int min_common_joints = 8;
+  // KS_ij is the median over the views of each view's own KS (1 minus the
+  // mean of its terms), not the mean over the views of the paper's
+  // equation: a detector that misses, merges or cuts an object in one view
+  // at one frame makes that view's terms jump to 1 for the pair although
+  // the scene did not change, and the median outvotes it (docs/keyframes.md).
+  bool view_median = true;
 
   int NumTerms() const;  // the terms switched on
   void Check() const;    // throws on a threshold outside [0, 1], no term, bad scales
@@ -101,7 +109,8 @@ struct KeyframeTermMatrices {
 KeyframeTermMatrices ComputeKeyframeTermMatrices(const KeyframeObservations& obs,
                                                  const KeyframeOptions& options = {});
 // KS = 1 - (sum of the terms switched on in `options`) / options.NumTerms(),
-// ones on the diagonal; equal to KeyframeSimilarityMatrix.
+// ones on the diagonal; equal to KeyframeSimilarityMatrix without
+// view_median (the median is taken per view, before any mean).
 Eigen::MatrixXd CombineKeyframeTerms(const KeyframeTermMatrices& terms,
                                      const KeyframeOptions& options = {});
 

@@ -14,6 +14,9 @@ void DeclareOptions(OptionRegistry& r, KeyframeOptions* o) {
   r.Add("pose_scale_m", &o->pose_scale_m, "P saturates at this root-relative MPJPE (m)");
   r.Add("min_common_joints", &o->min_common_joints,
         "two poses with fewer common joints count as dissimilar (P = 1)");
+  r.Add("view_median", &o->view_median,
+        "KS is the median over the views of their own KS (robust to one view's detector "
+        "failure); false: the paper's mean over the views");
 }
 
 }  // namespace u4d
