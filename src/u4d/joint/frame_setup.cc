@@ -77,32 +77,24 @@ void AddHullSupport(const std::vector<Camera>& cameras, const HullSupportOptions
   }
 }
 
-// The labels of the view at t whose pixels object `id` claims (hull_support).
-std::set<int> ClaimedLabels(const JointViewInput& in, int id) {
-  std::set<int> out;
-  if (in.hull_support.empty()) return out;
-  for (int y = 0; y < in.initial_labels.rows; ++y)
-    for (int x = 0; x < in.initial_labels.cols; ++x)
-      if (in.hull_support.at<uint16_t>(y, x) == id)
-        if (const int l = in.initial_labels.at<uint16_t>(y, x); l != 0) out.insert(l);
-  return out;
-}
-
 // An object of a view's solve that the view's labels at t lack (missed, or
 // merged into another object there) has no colour sample of its own: E_a
 // would forbid it. It borrows its pixels in the other views at t (images of
 // the view's size), which see the same clothes. Where it is merged into
-// another object at t, that object's labels at t−1 and t+1 in the view likely
-// hold it too (the same detector): they give no colour sample.
+// another object, the view's labels at t−1 and t+1 likely hold it in that
+// object too (the same detector): their object pixels where its hull
+// support lies at t give no colour sample.
 void BorrowColourSamples(std::vector<JointViewInput>* inputs) {
   for (JointViewInput& in : *inputs)
     for (const JointObject& obj : in.objects) {
       if (cv::countNonZero(in.initial_labels == obj.id) > 0) continue;
-      const std::set<int> merged_into = ClaimedLabels(in, obj.id);
+      const cv::Mat supported = in.hull_support.empty() ? cv::Mat() : in.hull_support == obj.id;
       for (LabelledImage& li : in.appearance_training) {
-        if (li.other_view || li.labels.data == in.appearance_training.front().labels.data) continue;
+        if (supported.empty() || li.other_view || li.labels.size() != supported.size() ||
+            li.labels.data == in.appearance_training.front().labels.data)
+          continue;
         li.labels = li.labels.clone();
-        for (const int l : merged_into) li.labels.setTo(kUnsampledLabel, li.labels == l);
+        li.labels.setTo(kUnsampledLabel, supported & (li.labels != 0));
       }
       for (const JointViewInput& other : *inputs) {
         const cv::Mat own = other.initial_labels == obj.id;

@@ -29,8 +29,9 @@
 // depth range in a view but none of its pixels there (the detector missed
 // it, or merged it into another object) is searched for by its hull alone,
 // and its colour model (E_a) is learnt from its pixels in the other views at
-// t; where it is merged into another object, that object's labels at t−1 and
-// t+1 in the view give no colour sample (they likely hold it too).
+// t; where it is merged into another object, the view's object labels at
+// t−1 and t+1 give no colour sample where its hull support lies at t (they
+// likely hold it there too).
 #pragma once
 
 #include <map>
