@@ -7,6 +7,7 @@
 
 #include "u4d/io/layout.h"
 #include "u4d/util/check.h"
+#include "u4d/util/stats.h"
 
 namespace u4d {
 
@@ -267,11 +268,12 @@ KeyframeTerms Terms(const KeyframeObservations& obs, const Prepared& prep, int v
   return t;
 }
 
-// The median of `v` (the mean of the middle two for an even count).
-double MiddleValue(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t h = v.size() / 2;
-  return v.size() % 2 ? v[h] : 0.5 * (v[h - 1] + v[h]);
+// One view's 1 - KS: the mean of the terms switched on.
+double Dissimilarity(const KeyframeTerms& t, const KeyframeOptions& options) {
+  const double sum = (options.use_correspondence ? t.m : 0) + (options.use_semantic ? t.l : 0) +
+                     (options.use_distance ? t.d : 0) + (options.use_pose ? t.p : 0) +
+                     (options.use_shape ? t.i : 0);
+  return sum / options.NumTerms();
 }
 
 }  // namespace
@@ -343,14 +345,9 @@ Eigen::MatrixXd KeyframeSimilarityMatrix(const KeyframeObservations& obs,
   std::vector<double> per_view(obs.NumViews());
   for (int a = 0; a < n; ++a)
     for (int b = a + 1; b < n; ++b) {
-      for (int v = 0; v < obs.NumViews(); ++v) {
-        const KeyframeTerms t = Terms(obs, prep, v, a, b, options);
-        const double sum = (options.use_correspondence ? t.m : 0) +
-                           (options.use_semantic ? t.l : 0) + (options.use_distance ? t.d : 0) +
-                           (options.use_pose ? t.p : 0) + (options.use_shape ? t.i : 0);
-        per_view[v] = 1.0 - sum / options.NumTerms();
-      }
-      ks(a, b) = ks(b, a) = MiddleValue(per_view);
+      for (int v = 0; v < obs.NumViews(); ++v)
+        per_view[v] = 1.0 - Dissimilarity(Terms(obs, prep, v, a, b, options), options);
+      ks(a, b) = ks(b, a) = MedianOfMiddle(per_view);
     }
   return ks;
 }
