@@ -183,6 +183,9 @@ void GroundOptions::Check() const {
   U4D_CHECK(instance_split_view_share >= 0 && instance_split_view_share <= 1,
             "GroundOptions.instance_split_view_share must be in [0, 1], found {}",
             instance_split_view_share);
+  U4D_CHECK(min_split_exclusive_share >= 0 && min_split_exclusive_share <= 1,
+            "GroundOptions.min_split_exclusive_share must be in [0, 1], found {}",
+            min_split_exclusive_share);
   U4D_CHECK(occupancy_fill_fraction >= 0 && occupancy_fill_fraction < 1,
             "GroundOptions.occupancy_fill_fraction must be in [0, 1), found {}",
             occupancy_fill_fraction);

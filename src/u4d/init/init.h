@@ -255,6 +255,8 @@ struct GroundOptions {
                                            // x as many of its rays as its own person
   double instance_split_view_share = 0.5;  // a candidate k instances hold in this share of the
                                            // views holding it is k touching people; 0 = off
+  double min_split_exclusive_share = 0.5;  // ... kept when each part is alone on this share of
+                                           // its rays in some view (0 = always kept)
   double occupancy_fill_fraction = 0.03;   // pixels missing an id take the nearest within
                                            // this x image height, else are dropped
 
@@ -400,7 +402,12 @@ cv::Mat FillStillSubjects(const cv::Mat& image_bgr, const cv::Mat& foreground,
 // holding it most in that view); the rays are then cast again. A share, not
 // a count: a detector may split one person in a view, and a person's
 // silhouette cone, fat where few views carve it, can meet first the rays of
-// another person behind it in a few views.
+// another person behind it in a few views. The split is undone unless every
+// part is then alone on at least min_split_exclusive_share of its rays in
+// some view (the phantom test's share, RemovePhantoms, with a stricter
+// bound): people who touch are seen apart from some side, while a cone fat
+// enough to meet the other person's instance cuts one person into parts
+// that overlap in every view.
 // Then per view, `instances` (step 4's ids) are the units: instances and
 // people are paired one to one, largest count first, by rays whose nearest
 // person is that person, then (people still unpaired) by rays crossing

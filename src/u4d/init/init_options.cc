@@ -133,6 +133,9 @@ void DeclareOptions(OptionRegistry& r, GroundOptions* o) {
   r.Add("instance_split_view_share", &o->instance_split_view_share,
         "given masks: a map candidate that k instances hold in this share of the views holding "
         "it is k touching people; 0 = off");
+  r.Add("min_split_exclusive_share", &o->min_split_exclusive_share,
+        "an instance split is kept when each part is alone on this share of its rays in some "
+        "view");
   r.Add("occupancy_fill_fraction", &o->occupancy_fill_fraction,
         "pixels missing an id take the nearest within this x image height, else are dropped");
 }

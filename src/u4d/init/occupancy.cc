@@ -478,8 +478,10 @@ std::vector<int> InstancesHolding(const cv::Mat& inst, const std::vector<Ray>& r
 
 // Splits candidate `c`'s columns into `k` people: seeds at its highest column
 // and then, in turn, the column farthest from the seeds among those at least
-// half as high; then Lloyd's iterations weighted by column height.
-void SplitCandidate(const cv::Mat& height, int c, int k, cv::Mat* person, int* candidates) {
+// half as high; then Lloyd's iterations weighted by column height. Returns
+// the parts' candidate ids (c first; only c when it has fewer than k columns).
+std::vector<int> SplitCandidate(const cv::Mat& height, int c, int k, cv::Mat* person,
+                                int* candidates) {
   struct Column {
     int i, j;
     double h;
@@ -492,7 +494,7 @@ void SplitCandidate(const cv::Mat& height, int c, int k, cv::Mat* person, int* c
         columns.push_back({i, j, height.at<float>(j, i)});
         top = std::max(top, columns.back().h);
       }
-  if (static_cast<int>(columns.size()) < k) return;
+  if (static_cast<int>(columns.size()) < k) return {c};
   const auto d2 = [](const Column& a, const Eigen::Vector2d& b) {
     return (Eigen::Vector2d(a.i, a.j) - b).squaredNorm();
   };
@@ -529,17 +531,21 @@ void SplitCandidate(const cv::Mat& height, int c, int k, cv::Mat* person, int* c
   for (int p = 1; p < k; ++p) id_of[p] = ++*candidates;
   for (size_t n = 0; n < columns.size(); ++n)
     person->at<uint16_t>(columns[n].j, columns[n].i) = static_cast<uint16_t>(id_of[part[n]]);
+  return id_of;
 }
 
 // People who touch are one candidate on the map, separate instances in the
 // views that see them apart (init.h): a candidate that k >= 2 instances
 // hold in at least instance_split_view_share of the views where any holds
-// it (and in two views at least) is split into k. Returns whether any was.
-bool SplitByInstances(const std::vector<cv::Mat>& instances,
-                      const std::vector<std::vector<Ray>>& rays, const ReducedMasks& reduced,
-                      const std::vector<uint16_t>& final_id, const InitOptions& options,
-                      const OccupancyMap& m, cv::Mat* person, int* candidates) {
-  if (options.ground.instance_split_view_share <= 0) return false;
+// it (and in two views at least) is split into k. Returns the parts of each
+// split candidate (SplitCandidate).
+std::vector<std::vector<int>> SplitByInstances(const std::vector<cv::Mat>& instances,
+                                               const std::vector<std::vector<Ray>>& rays,
+                                               const ReducedMasks& reduced,
+                                               const std::vector<uint16_t>& final_id,
+                                               const InitOptions& options, const OccupancyMap& m,
+                                               cv::Mat* person, int* candidates) {
+  if (options.ground.instance_split_view_share <= 0) return {};
   const int nc = static_cast<int>(final_id.size());
   std::vector<std::vector<int>> held_in_views(nc);  // candidate -> instances per view holding it
   for (size_t v = 0; v < instances.size(); ++v) {
@@ -548,7 +554,7 @@ bool SplitByInstances(const std::vector<cv::Mat>& instances,
     for (int c = 1; c < nc; ++c)
       if (held[c] >= 1) held_in_views[c].push_back(held[c]);
   }
-  bool split = false;
+  std::vector<std::vector<int>> split;
   for (int c = 1; c < nc; ++c) {
     std::vector<int>& held = held_in_views[c];
     const int min_views = std::max(
@@ -559,10 +565,34 @@ bool SplitByInstances(const std::vector<cv::Mat>& instances,
     std::sort(held.rbegin(), held.rend());
     const int k = held[min_views - 1];
     if (k < 2) continue;
-    SplitCandidate(m.height, c, k, person, candidates);
-    split = true;
+    std::vector<int> parts = SplitCandidate(m.height, c, k, person, candidates);
+    if (parts.size() > 1) split.push_back(std::move(parts));
   }
   return split;
+}
+
+// Undoes the splits (SplitByInstances' parts) of which a part is not alone on
+// min_split_exclusive_share of its rays in any view (RemovePhantoms' share; a
+// dropped part has none): the parts' columns return to the first part.
+// Returns whether any split was undone.
+bool UndoOverlappingSplits(const std::vector<std::vector<int>>& splits,
+                           const std::vector<uint16_t>& final_id, const OccupancyMap& m,
+                           const InitOptions& options, cv::Mat* person) {
+  bool undone = false;
+  for (const std::vector<int>& parts : splits) {
+    bool apart = true;
+    for (const int p : parts)
+      apart = apart && final_id[p] != 0 &&
+              m.exclusive_share[final_id[p]] >= options.ground.min_split_exclusive_share;
+    if (apart) continue;
+    for (int y = 0; y < person->rows; ++y)
+      for (int x = 0; x < person->cols; ++x) {
+        uint16_t& id = person->at<uint16_t>(y, x);
+        if (std::find(parts.begin() + 1, parts.end(), id) != parts.end()) id = parts[0];
+      }
+    undone = true;
+  }
+  return undone;
 }
 
 // Per view, the step-4 instances are the units (they separate people side
@@ -703,11 +733,16 @@ std::vector<cv::Mat> SeparatePeopleOnGround(const std::vector<Camera>& cameras,
   candidates = SplitByPrevious(previous_people, m, options, &person, candidates);
   std::vector<std::vector<Ray>> rays = CastRays(m, person, occupied, reduced);
   std::vector<uint16_t> final_id = RemovePhantoms(rays, person, candidates, options, &m);
-  if (instances_are_people &&
-      SplitByInstances(instances, rays, reduced, final_id, options, m, &person, &candidates)) {
+  const auto cast_again = [&] {
     m.num_people = 0;
     rays = CastRays(m, person, occupied, reduced);
     final_id = RemovePhantoms(rays, person, candidates, options, &m);
+  };
+  if (instances_are_people) {
+    const std::vector<std::vector<int>> splits =
+        SplitByInstances(instances, rays, reduced, final_id, options, m, &person, &candidates);
+    if (!splits.empty()) cast_again();
+    if (UndoOverlappingSplits(splits, final_id, m, options, &person)) cast_again();
   }
   std::vector<cv::Mat> out(nv);
   tbb::parallel_for(0, nv, [&](int v) {
