@@ -77,36 +77,43 @@ void AddHullSupport(const std::vector<Camera>& cameras, const HullSupportOptions
   }
 }
 
-// An object of a view's solve that the view's labels at t lack (missed, or
-// merged into another object there) has no colour sample of its own: E_a
-// would forbid it. It borrows its pixels in the other views at t (images of
-// the view's size), which see the same clothes. Where it is merged into
-// another object, the view's labels at t−1 and t+1 likely hold it in that
-// object too (the same detector): their object pixels where its hull
-// support lies at t give no colour sample.
-void BorrowColourSamples(std::vector<JointViewInput>* inputs) {
-  for (JointViewInput& in : *inputs)
+// E_a's colour models of a view's objects also learn from the objects'
+// pixels in the other views at t (images of the view's size), which see the
+// same clothes: FrameSetupOptions::colour_from_other_views. In a view where
+// the detector merged two people, or where a merged instance was split along
+// the wrong line, the view's own samples of both are mixed, while most other
+// views hold them apart. An object the view's labels at t lack (missed, or
+// merged into another object there) has no sample of its own at all, so it
+// always borrows (E_a would forbid it), and where it is merged into another
+// object the view's labels at t−1 and t+1 likely hold it in that object too
+// (the same detector): their object pixels where its hull support lies at t
+// give no colour sample.
+void BorrowColourSamples(bool all_objects, std::vector<JointViewInput>* inputs) {
+  for (JointViewInput& in : *inputs) {
+    std::vector<int> borrowers;
     for (const JointObject& obj : in.objects) {
-      if (cv::countNonZero(in.initial_labels == obj.id) > 0) continue;
-      const cv::Mat supported = in.hull_support.empty() ? cv::Mat() : in.hull_support == obj.id;
+      const bool present = cv::countNonZero(in.initial_labels == obj.id) > 0;
+      if (all_objects || !present) borrowers.push_back(obj.id);
+      if (present || in.hull_support.empty()) continue;
+      const cv::Mat supported = in.hull_support == obj.id;
       for (LabelledImage& li : in.appearance_training) {
-        if (supported.empty() || li.other_view || li.labels.size() != supported.size() ||
+        if (li.other_view || li.labels.size() != supported.size() ||
             li.labels.data == in.appearance_training.front().labels.data)
           continue;
         li.labels = li.labels.clone();
         li.labels.setTo(kUnsampledLabel, supported & (li.labels != 0));
       }
-      for (const JointViewInput& other : *inputs) {
-        const cv::Mat own = other.initial_labels == obj.id;
-        if (&other == &in || other.initial_labels.size() != in.initial_labels.size() ||
-            cv::countNonZero(own) == 0)
-          continue;
-        cv::Mat labels(own.size(), CV_16U, cv::Scalar(kUnsampledLabel));
-        labels.setTo(obj.id, own);
-        in.appearance_training.push_back(
-            {other.images_t[other.ref_view], labels, /*other_view=*/true});
-      }
     }
+    if (borrowers.empty()) continue;
+    for (const JointViewInput& other : *inputs) {
+      if (&other == &in || other.initial_labels.size() != in.initial_labels.size()) continue;
+      cv::Mat labels(other.initial_labels.size(), CV_16U, cv::Scalar(kUnsampledLabel));
+      for (const int id : borrowers) labels.setTo(id, other.initial_labels == id);
+      if (cv::countNonZero(labels != kUnsampledLabel) == 0) continue;
+      in.appearance_training.push_back(
+          {other.images_t[other.ref_view], labels, /*other_view=*/true});
+    }
+  }
 }
 
 }  // namespace
@@ -341,7 +348,7 @@ std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
       }
   });
   if (options.hull.enabled) AddHullSupport(cams_t, options.hull, &inputs);
-  BorrowColourSamples(&inputs);
+  BorrowColourSamples(options.colour_from_other_views, &inputs);
   return inputs;
 }
 
