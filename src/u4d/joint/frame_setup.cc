@@ -82,7 +82,10 @@ void AddHullSupport(const std::vector<Camera>& cameras, const HullSupportOptions
 // same clothes: FrameSetupOptions::colour_from_other_views. In a view where
 // the detector merged two people, or where a merged instance was split along
 // the wrong line, the view's own samples of both are mixed, while most other
-// views hold them apart. An object the view's labels at t lack (missed, or
+// views hold them apart. With one object in the view there is nothing to
+// mix, and the other views' masks would lend only their own detector's
+// errors (floor, furniture), so then the object keeps its own samples. An
+// object the view's labels at t lack (missed, or
 // merged into another object there) has no sample of its own at all, so it
 // always borrows (E_a would forbid it), and where it is merged into another
 // object the view's labels at t−1 and t+1 likely hold it in that object too
@@ -93,7 +96,7 @@ void BorrowColourSamples(bool all_objects, std::vector<JointViewInput>* inputs) 
     std::vector<int> borrowers;
     for (const JointObject& obj : in.objects) {
       const bool present = cv::countNonZero(in.initial_labels == obj.id) > 0;
-      if (all_objects || !present) borrowers.push_back(obj.id);
+      if (!present || (all_objects && in.objects.size() > 1)) borrowers.push_back(obj.id);
       if (present || in.hull_support.empty()) continue;
       const cv::Mat supported = in.hull_support == obj.id;
       for (LabelledImage& li : in.appearance_training) {

@@ -90,11 +90,11 @@ struct FrameSetupOptions {
   // upscaled.
   bool flow_at_camera_size = true;
   int flow_window_px = 7;
-  // E_a's colour models of each object also learn from its pixels in the
-  // other views at t (frame_setup.cc BorrowColourSamples): a view whose
-  // detector merged two people has mixed samples of both. False: only an
-  // object the view's labels lack borrows (for rigs whose cameras render
-  // colours very differently).
+  // With several objects in the view, E_a's colour models of each also
+  // learn from its pixels in the other views at t (frame_setup.cc
+  // BorrowColourSamples): a view whose detector merged two people has mixed
+  // samples of both. False: only an object the view's labels lack borrows
+  // (for rigs whose cameras render colours very differently).
   bool colour_from_other_views = true;
   void Check() const;
 };

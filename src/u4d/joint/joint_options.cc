@@ -24,8 +24,8 @@ void DeclareOptions(OptionRegistry& r, FrameSetupOptions* o) {
         "match, whichever keeps the brightness over a window (false: the solve's flow upscaled)");
   r.Add("flow_window_px", &o->flow_window_px, "that window's side, camera pixels (odd)");
   r.Add("colour_from_other_views", &o->colour_from_other_views,
-        "each object's colour model (E_a) also learns from its pixels in the other views at t "
-        "(false: only an object the view's labels lack)");
+        "with several objects in the view, each object's colour model (E_a) also learns from "
+        "its pixels in the other views at t (false: only an object the view's labels lack)");
   // `pose` (the capsule model) is not declared: it is JointViewOptions::pose,
   // which callers copy in (the pipeline does), so the capsules are one setting.
 }

@@ -287,17 +287,19 @@ LabelCostVolume AppearanceCosts(const cv::Mat& image, const std::vector<Labelled
                   t.labels.type() == CV_16UC1 && t.image.type() == CV_8UC3,
               "AppearanceCosts: training image/labels must be {}x{} BGR / CV_16U", image.cols,
               image.rows);
-    cv::Mat objects = t.labels > 0, band;
-    cv::dilate(
-        objects, band,
-        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * options.background_band_px + 1,
-                                                              2 * options.background_band_px + 1)));
+    // Another view's image lends only its objects' samples: no band.
+    cv::Mat band;
+    if (!t.other_view)
+      cv::dilate(t.labels > 0, band,
+                 cv::getStructuringElement(cv::MORPH_ELLIPSE,
+                                           cv::Size(2 * options.background_band_px + 1,
+                                                    2 * options.background_band_px + 1)));
     const cv::Mat sure = SureSamplePixels(t.labels, num_labels, options.appearance_inset_px);
     for (int y = 0; y < image.rows; ++y)
       for (int x = 0; x < image.cols; ++x) {
         const int l = t.labels.at<uint16_t>(y, x);
         if (l >= num_labels || !sure.at<uint8_t>(y, x)) continue;
-        if (l == 0 && !band.at<uint8_t>(y, x)) continue;
+        if (l == 0 && (band.empty() || !band.at<uint8_t>(y, x))) continue;
         samples[l].push_back(t.image.at<cv::Vec3b>(y, x));
       }
   }

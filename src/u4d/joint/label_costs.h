@@ -76,7 +76,8 @@ struct LabelledImage {
   cv::Mat image;   // BGR 8-bit
   cv::Mat labels;  // CV_16U
   // Another view's image at t, lending colour samples of an object the
-  // view's own labels lack (joint/frame_setup.h): E_a only, not E_sem.
+  // view's own labels lack (joint/frame_setup.h): E_a only, not E_sem. Only
+  // its objects lend samples: its background (label 0) gives none.
   bool other_view = false;
 };
 
