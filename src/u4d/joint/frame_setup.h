@@ -90,6 +90,11 @@ struct FrameSetupOptions {
   // upscaled.
   bool flow_at_camera_size = true;
   int flow_window_px = 7;
+  // That step also tries each object's own match, with everything outside
+  // the object at t and at t+1 greyed out (camera_flow.h): a neighbour that
+  // moves otherwise cannot drag its pixels. The objects at t+1 are the next
+  // frame's refined labels, or its initial masks at the run's last frame.
+  bool flow_object_matches = true;
   // With several objects in the view, E_a's colour models of each also
   // learn from its pixels in the other views at t (frame_setup.cc
   // BorrowColourSamples): a view whose detector merged two people has mixed

@@ -23,6 +23,9 @@ void DeclareOptions(OptionRegistry& r, FrameSetupOptions* o) {
         "the objects' camera-size flow takes, per pixel, the solve's flow or the camera-size dense "
         "match, whichever keeps the brightness over a window (false: the solve's flow upscaled)");
   r.Add("flow_window_px", &o->flow_window_px, "that window's side, camera pixels (odd)");
+  r.Add("flow_object_matches", &o->flow_object_matches,
+        "that step also tries each object's own match, the rest of the image greyed out at t "
+        "and t+1 (false: the whole image's match only)");
   r.Add("colour_from_other_views", &o->colour_from_other_views,
         "with several objects in the view, each object's colour model (E_a) also learns from "
         "its pixels in the other views at t (false: only an object the view's labels lack)");

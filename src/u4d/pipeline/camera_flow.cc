@@ -1,6 +1,7 @@
 #include "u4d/pipeline/camera_flow.h"
 
 #include <algorithm>
+#include <set>
 
 #include <opencv2/imgproc.hpp>
 
@@ -43,10 +44,55 @@ cv::Rect ObjectBox(const cv::Mat& labels, int margin) {
 // margin is at least this, and a smaller image is not matched.
 constexpr int kMinMatchSide = 16;
 
+// `grey` with every pixel outside `keep` set to mid-grey.
+cv::Mat OnlyObject(const cv::Mat& grey, const cv::Mat& keep) {
+  cv::Mat out(grey.size(), CV_8U, cv::Scalar(128));
+  grey.copyTo(out, keep);
+  return out;
+}
+
+// Each object's own dense match (see the header) at its pixels of the roi;
+// elsewhere `solved`. `own` (CV_8U, the roi's size) marks the pixels that
+// have one.
+cv::Mat ObjectMatches(const cv::Mat& labels, const cv::Mat& labels_t1, const cv::Mat& image_t,
+                      const cv::Mat& image_t1, const cv::Rect& roi, const cv::Mat& solved,
+                      cv::Mat* own) {
+  cv::Mat grey_t, grey_t1;
+  cv::cvtColor(image_t, grey_t, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(image_t1, grey_t1, cv::COLOR_BGR2GRAY);
+  const cv::Mat grow = cv::getStructuringElement(
+      cv::MORPH_ELLIPSE, cv::Size(2 * kObjectMatchMarginPx + 1, 2 * kObjectMatchMarginPx + 1));
+  cv::Mat field = solved.clone();
+  *own = cv::Mat::zeros(roi.size(), CV_8U);
+  std::set<int> ids;
+  for (int y = 0; y < labels.rows; ++y)
+    for (int x = 0; x < labels.cols; ++x)
+      if (const int id = labels.at<uint16_t>(y, x)) ids.insert(id);
+  for (const int id : ids) {
+    cv::Mat at_t, at_t1;
+    cv::dilate(labels == id, at_t, grow);
+    cv::dilate(labels_t1 == id, at_t1, grow);
+    if (cv::countNonZero(at_t1) == 0) continue;
+    const cv::Rect box = cv::boundingRect(at_t | at_t1);
+    const int margin = box.width / 5 + kMinMatchSide;
+    const cv::Rect crop =
+        cv::Rect(box.x - margin, box.y - margin, box.width + 2 * margin, box.height + 2 * margin) &
+        cv::Rect(0, 0, labels.cols, labels.rows);
+    const cv::Mat match = baselines::DenseFlow(baselines::DenseFlowMethod::kDisFine,
+                                               OnlyObject(grey_t(crop), at_t(crop)),
+                                               OnlyObject(grey_t1(crop), at_t1(crop)));
+    const cv::Rect both = crop & roi;
+    const cv::Mat mine = labels(both) == id;
+    match(both - crop.tl()).copyTo(field(both - roi.tl()), mine);
+    (*own)(both - roi.tl()).setTo(255, mine);
+  }
+  return field;
+}
+
 }  // namespace
 
 void RefineFlowAtCameraSize(const cv::Mat& labels, const cv::Mat& image_t, const cv::Mat& image_t1,
-                            int window_px, cv::Mat* flow) {
+                            int window_px, cv::Mat* flow, const cv::Mat& labels_t1) {
   U4D_CHECK(window_px > 0 && window_px % 2 == 1,
             "RefineFlowAtCameraSize: the window must be odd and positive, got {}", window_px);
   U4D_CHECK(labels.type() == CV_16U && image_t.type() == CV_8UC3 && image_t1.type() == CV_8UC3 &&
@@ -56,6 +102,9 @@ void RefineFlowAtCameraSize(const cv::Mat& labels, const cv::Mat& image_t, const
                 labels.size() == flow->size(),
             "RefineFlowAtCameraSize: the labels ({}x{}), images and flow must have one size",
             labels.cols, labels.rows);
+  U4D_CHECK(labels_t1.empty() || (labels_t1.type() == CV_16U && labels_t1.size() == labels.size()),
+            "RefineFlowAtCameraSize: the labels at t+1 must be CV_16U {}x{}", labels.cols,
+            labels.rows);
   if (cv::countNonZero(labels) == 0) return;
   if (labels.cols < kMinMatchSide && labels.rows < kMinMatchSide) return;
   // The dense match is computed around the objects only: a margin of a
@@ -68,10 +117,22 @@ void RefineFlowAtCameraSize(const cv::Mat& labels, const cv::Mat& image_t, const
   image_t(roi).convertTo(t_roi, CV_32F);
   image_t1.convertTo(t1, CV_32F);
   cv::Mat solved = (*flow)(roi);
-  const cv::Mat take = (WindowError(t_roi, t1, roi, dense, window_px) <
-                        WindowError(t_roi, t1, roi, solved, window_px)) &
-                       (labels(roi) > 0);
-  dense.copyTo(solved, take);
+  cv::Mat best_error = WindowError(t_roi, t1, roi, solved, window_px);
+  const cv::Mat objects = labels(roi) > 0;
+  cv::Mat best = solved.clone();
+  auto consider = [&](const cv::Mat& candidate, const cv::Mat& where) {
+    const cv::Mat error = WindowError(t_roi, t1, roi, candidate, window_px);
+    const cv::Mat take = (error < best_error) & where;
+    candidate.copyTo(best, take);
+    error.copyTo(best_error, take);
+  };
+  consider(dense, objects);
+  if (!labels_t1.empty()) {
+    cv::Mat own;
+    const cv::Mat matches = ObjectMatches(labels, labels_t1, image_t, image_t1, roi, solved, &own);
+    consider(matches, own & objects);
+  }
+  best.copyTo(solved, objects);
 }
 
 }  // namespace u4d

@@ -11,20 +11,36 @@
 namespace u4d {
 
 // For every pixel of an object (`labels` > 0) the flow becomes the one of
-// two candidate fields with the lower brightness-constancy error summed over
-// the `window_px` square around it: the solve's flow upscaled (`flow`, in
-// place) and the dense match of `image_t` to `image_t1`
-// (baselines::DenseFlow kDisFine, the solve's own fusion proposal, here at
-// camera size, computed in the objects' bounding box grown by a tenth of
-// the width, at least the window and 16 pixels; an image under 16 pixels
-// on both sides keeps its flow). A field's error at a pixel is
-// |I_t1(p + f(p)) − I_t(p)| summed over the colour channels (I_t1
-// bilinear, the border replicated).
+// the candidate fields with the lowest brightness-constancy error summed
+// over the `window_px` square around it:
+//  - the solve's flow upscaled (`flow`, in place);
+//  - the dense match of `image_t` to `image_t1` (baselines::DenseFlow
+//    kDisFine, the solve's own fusion proposal, here at camera size),
+//    computed in the objects' bounding box grown by a tenth of the width, at
+//    least the window and 16 pixels;
+//  - with `labels_t1` (the objects at t+1, CV_16U; empty = none), the
+//    object's own match at each object's pixels: the same dense match
+//    between the two images with every pixel outside the object (its labels
+//    at t, resp. t+1, grown by kObjectMatchMarginPx) set to mid-grey, in the
+//    object's bounding box at t and t+1 grown by a fifth of its width and
+//    16 pixels. A neighbour that moves otherwise is then not in the picture:
+//    the whole image's match lets it drag the pixels of a person it
+//    overlaps (a striped shirt matches one stripe over in either
+//    direction; dark trousers match anything). An object absent from
+//    `labels_t1` has no such candidate.
+// An image under 16 pixels on both sides keeps its flow. A field's error at
+// a pixel is |I_t1(p + f(p)) − I_t(p)| summed over the colour channels
+// (I_t1 bilinear, the border replicated).
 // Background pixels (label 0) keep their flow: the camera's, which the
 // solve computes from the calibration. Everything has the camera's size:
 // CV_16U labels, BGR 8-bit images, CV_32FC2 flow. Throws u4d::Error on a
 // size or type mismatch or a window that is not odd and positive.
 void RefineFlowAtCameraSize(const cv::Mat& labels, const cv::Mat& image_t, const cv::Mat& image_t1,
-                            int window_px, cv::Mat* flow);
+                            int window_px, cv::Mat* flow, const cv::Mat& labels_t1 = {});
+
+// Pixels by which an object's labels are grown before the rest of the image
+// is greyed out for its own match: a detector's or the solve's boundary errs
+// by about this much, and the object's silhouette edge stays in the picture.
+inline constexpr int kObjectMatchMarginPx = 2;
 
 }  // namespace u4d

@@ -113,6 +113,10 @@ struct SolvedFrame {
   // or frame_setup.keep_initial_detail is off (scene_outputs.h ToCameraSize).
   std::vector<cv::Mat> initial, full_initial;
   std::vector<cv::Mat> full_images_t1;  // camera size, BGR; empty: no next frame
+  // Per view, the initial object ids of the next frame at camera size; empty
+  // where there is none (the run's last frame).
+  std::vector<cv::Mat> full_initial_t1;
+  std::vector<ViewMaps> maps;  // camera size (FrameMaps), until written
 };
 
 // The views' flows on objects from the motion all views see
@@ -211,14 +215,14 @@ SolvedFrame SolveFrame(RunContext& c, int f, const std::vector<std::vector<Pose3
   solved.full_cameras = data.cameras_t;
   solved.full_images = data.images_t;
   solved.full_images_t1 = data.images_t1;
+  solved.full_initial_t1 = data.masks_t1;
   return solved;
 }
 
-// The scene's maps of a solved frame, at camera size. With
-// frame_setup.flow_at_camera_size the objects' camera-size flow, area-averaged
-// to the working resolution, also replaces s.flow on their pixels: the scene
-// flow (WriteFrameOutputs) moves the meshes with the finer motion.
-void WriteFrameMaps(const RunContext& c, SolvedFrame& s) {
+// The scene's maps of a solved frame at camera size (ToCameraSize), before
+// the flow's camera-size step.
+void FrameMaps(const RunContext& c, SolvedFrame& s) {
+  s.maps.resize(s.labels.size());
   for (size_t v = 0; v < s.labels.size(); ++v) {
     JointViewResult r;
     r.labels = s.labels[v];
@@ -226,12 +230,28 @@ void WriteFrameMaps(const RunContext& c, SolvedFrame& s) {
     r.flow = s.flow[v];
     const Camera& full = s.full_cameras[v];
     const bool guided = c.o.frame_setup.guided_upsampling;
-    ViewMaps maps =
+    s.maps[v] =
         ToCameraSize(r, full.width, full.height, s.scale, s.initial[v], s.full_initial[v],
                      guided ? s.images[v] : cv::Mat(), guided ? s.full_images[v] : cv::Mat());
+  }
+}
+
+// Writes the maps of frame s (FrameMaps) and lets them go. With
+// frame_setup.flow_at_camera_size the objects' flow first takes its
+// camera-size step (camera_flow.h); `labels_t1` are the objects at t+1 per
+// view, at camera size, for its object matches (frame_setup.
+// flow_object_matches; empty = none). The objects' camera-size flow,
+// area-averaged to the working resolution, also replaces s.flow on their
+// pixels: the scene flow (WriteFrameOutputs) moves the meshes with the finer
+// motion.
+void WriteFrameMaps(const RunContext& c, SolvedFrame& s, const std::vector<cv::Mat>& labels_t1) {
+  for (size_t v = 0; v < s.labels.size(); ++v) {
+    ViewMaps& maps = s.maps[v];
     if (c.o.frame_setup.flow_at_camera_size && !s.full_images_t1.empty()) {
+      const bool objects = c.o.frame_setup.flow_object_matches && v < labels_t1.size();
       RefineFlowAtCameraSize(maps.labels, s.full_images[v], s.full_images_t1[v],
-                             c.o.frame_setup.flow_window_px, &maps.flow);
+                             c.o.frame_setup.flow_window_px, &maps.flow,
+                             objects ? labels_t1[v] : cv::Mat());
       cv::Mat working;
       cv::resize(maps.flow, working, s.flow[v].size(), 0, 0, cv::INTER_AREA);
       working *= s.scale;
@@ -239,6 +259,14 @@ void WriteFrameMaps(const RunContext& c, SolvedFrame& s) {
     }
     WriteViewMaps(c.out, c.names[v], s.frame, maps, s.full_images[v], c.o.picture_width, c.classes);
   }
+  s.maps.clear();
+}
+
+// The camera-size labels of a frame's maps, per view.
+std::vector<cv::Mat> MapLabels(const SolvedFrame& s) {
+  std::vector<cv::Mat> labels;
+  for (const ViewMaps& maps : s.maps) labels.push_back(maps.labels);
+  return labels;
 }
 
 std::set<int> ObjectIds(const SolvedFrame& s) {
@@ -250,15 +278,18 @@ std::set<int> ObjectIds(const SolvedFrame& s) {
   return ids;
 }
 
-// Frame f's outputs: its maps, one mesh per object (the segment's first
+// Frame f's outputs: the maps of `unwritten` (frame f - 1 when its maps
+// wait for f's labels, else null), one mesh per object (the segment's first
 // frame also starts each object's animation) and the animations tracked from
-// `previous` (frame f - 1, null at the segment's first frame) to it. Adds the
-// parts' seconds to `parts`.
+// `previous` (frame f - 1, null at the segment's first frame) to it. f's own
+// maps are computed (FrameMaps) and wait for frame f + 1. Adds the parts'
+// seconds to `parts`.
 void WriteFrameOutputs(const RunContext& c, const Segment& seg, SolvedFrame& current,
-                       const SolvedFrame* previous, std::map<int, AnimatedMesh>& animations,
-                       RunLog& parts) {
+                       SolvedFrame* unwritten, const SolvedFrame* previous,
+                       std::map<int, AnimatedMesh>& animations, RunLog& parts) {
   Timer timer;
-  WriteFrameMaps(c, current);
+  FrameMaps(c, current);
+  if (unwritten) WriteFrameMaps(c, *unwritten, MapLabels(current));
   parts.AddSegmentPart("maps", timer.Seconds());
   timer.Restart();
   const int f = current.frame;
@@ -323,10 +354,14 @@ void WriteSegmentAnimation(const RunContext& c, const Segment& seg,
 // outputs (and, after a segment's last frame, its animation) are written by
 // a background task while the next frame is solved, across segment borders
 // too (the two share the cores: the view solves are parallel, fusion mostly
-// is not). `segment_done(seg)` runs on the calling thread once all of a
-// segment's files are written; an error (in a solve or in the background)
-// is rethrown after the background task has finished, so a segment whose
-// files were all written is still reported done.
+// is not). A frame's maps wait for the next frame's labels (the flow's
+// object matches, WriteFrameMaps), so a segment is reported done
+// (`segment_done(seg)`, on the calling thread) once the next frame's task
+// has written its last frame's maps; without a next frame (the run's end, a
+// gap in `todo`, an error) they take the initial masks of t+1. An error (in
+// a solve or in the background) is rethrown after the background task has
+// finished, so a segment whose files were all written is still reported
+// done.
 void RunSegments(RunContext& c, const std::vector<Segment>& todo,
                  const std::vector<std::vector<Pose3d>>& poses,
                  const std::vector<TemporalTrack>& tracks, const JointViewOptions& joint,
@@ -336,42 +371,60 @@ void RunSegments(RunContext& c, const std::vector<Segment>& todo,
   std::array<SolvedFrame, 2> frames;
   RunLog background_parts;  // the background task's part times
   tbb::task_group background;
-  bool frame_pending = false;              // a frame's outputs are in the background
-  const Segment* last_frame_of = nullptr;  // ... and it is this segment's last
+  bool frame_pending = false;                // a frame's outputs are in the background
+  const Segment* last_frame_of = nullptr;    // ... and it is this segment's last
+  const Segment* done_after_task = nullptr;  // ... and it writes this segment's last maps
+  // A segment whose files are all written but its last frame's maps
+  // (frames[0]'s, waiting for the next frame's labels).
+  const Segment* waiting = nullptr;
   // Waits for the background task (rethrowing its error: then nothing it
   // worked on is reported), takes its times and reports what it finished.
   auto finish = [&] {
     const bool pending = std::exchange(frame_pending, false);
-    const Segment* done = std::exchange(last_frame_of, nullptr);
+    const Segment* last = std::exchange(last_frame_of, nullptr);
+    const Segment* done = std::exchange(done_after_task, nullptr);
     background.wait();
     for (const PartTime& part : background_parts.segment_parts)
       c.log.AddSegmentPart(part.name, part.seconds);
     background_parts.segment_parts.clear();
     if (pending && progress) progress->Tick();
     if (done) segment_done(*done);
+    if (last) waiting = last;
+  };
+  // frames[0]'s maps without a next frame, and the segment waiting for them.
+  auto flush = [&] {
+    if (!frames[0].maps.empty()) WriteFrameMaps(c, frames[0], frames[0].full_initial_t1);
+    if (const Segment* s = std::exchange(waiting, nullptr)) segment_done(*s);
   };
   try {
     for (const Segment& seg : todo)
       for (int f = seg.first; f <= seg.last; ++f) {
         SolvedFrame current = SolveFrame(c, f, poses, tracks, joint);
         finish();
+        if (frames[0].frame != f - 1) flush();
         if (f == seg.first) animations.clear();
         frames[1] = std::move(frames[0]);
         frames[0] = std::move(current);
+        SolvedFrame* unwritten = frames[1].maps.empty() ? nullptr : &frames[1];
         const SolvedFrame* previous = f > seg.first ? &frames[1] : nullptr;
         const bool last = f == seg.last;
         frame_pending = true;
+        if (unwritten) done_after_task = std::exchange(waiting, nullptr);
         if (last) last_frame_of = &seg;
-        background.run([&c, &seg, &frames, previous, last, &animations, &background_parts] {
-          WriteFrameOutputs(c, seg, frames[0], previous, animations, background_parts);
+        background.run([&c, &seg, &frames, unwritten, previous, last, &animations,
+                        &background_parts] {
+          WriteFrameOutputs(c, seg, frames[0], unwritten, previous, animations, background_parts);
           if (last) WriteSegmentAnimation(c, seg, animations, background_parts);
         });
       }
     finish();
+    flush();
   } catch (...) {
-    // The first error wins; the background's own, if any, is dropped.
+    // The first error wins; the background's own, if any, is dropped. A
+    // segment that waits only for its last maps still gets them.
     try {
       finish();
+      if (waiting) flush();
     } catch (...) {
     }
     throw;
