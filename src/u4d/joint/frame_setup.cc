@@ -128,6 +128,8 @@ void FrameSetupOptions::Check() const {
   U4D_CHECK(min_joints_inside >= 1, "FrameSetupOptions.min_joints_inside must be >= 1");
   U4D_CHECK(flow_window_px > 0 && flow_window_px % 2 == 1,
             "FrameSetupOptions.flow_window_px must be odd and positive, got {}", flow_window_px);
+  U4D_CHECK(flow_median_px >= 0, "FrameSetupOptions.flow_median_px must be >= 0, got {}",
+            flow_median_px);
   pose.Check();
   hull.Check();
 }

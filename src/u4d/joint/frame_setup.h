@@ -95,6 +95,11 @@ struct FrameSetupOptions {
   // moves otherwise cannot drag its pixels. The objects at t+1 are the next
   // frame's refined labels, or its initial masks at the run's last frame.
   bool flow_object_matches = true;
+  // Then each object's camera-size flow is median-filtered over a square of
+  // this side in working pixels, where the square lies inside the object
+  // (camera_flow.h MedianFilterObjectFlow; Sun, Roth and Black 2010's 5x5
+  // median, here at the solve's resolution); 0 = off.
+  int flow_median_px = 5;
   // With several objects in the view, E_a's colour models of each also
   // learn from its pixels in the other views at t (frame_setup.cc
   // BorrowColourSamples): a view whose detector merged two people has mixed

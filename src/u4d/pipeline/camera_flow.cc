@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <set>
+#include <vector>
 
+#include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
 
 #include "u4d/baselines/dense_flow.h"
@@ -133,6 +135,37 @@ void RefineFlowAtCameraSize(const cv::Mat& labels, const cv::Mat& image_t, const
     consider(matches, own & objects);
   }
   best.copyTo(solved, objects);
+}
+
+void MedianFilterObjectFlow(const cv::Mat& labels, int window_px, cv::Mat* flow) {
+  U4D_CHECK(window_px > 0 && window_px % 2 == 1,
+            "MedianFilterObjectFlow: the window must be odd and positive, got {}", window_px);
+  U4D_CHECK(labels.type() == CV_16U && flow->type() == CV_32FC2 && labels.size() == flow->size(),
+            "MedianFilterObjectFlow: expected CV_16U labels and a CV_32FC2 flow of one size");
+  const cv::Mat in = flow->clone();
+  const int r = window_px / 2;
+  tbb::parallel_for(0, labels.rows, [&](int y) {
+    std::vector<float> xs, ys;
+    for (int x = 0; x < labels.cols; ++x) {
+      const uint16_t id = labels.at<uint16_t>(y, x);
+      if (id == 0) continue;
+      xs.clear();
+      ys.clear();
+      bool inside = true;
+      for (int v = std::max(0, y - r); inside && v <= std::min(labels.rows - 1, y + r); ++v)
+        for (int u = std::max(0, x - r); inside && u <= std::min(labels.cols - 1, x + r); ++u) {
+          inside = labels.at<uint16_t>(v, u) == id;
+          const cv::Vec2f& f = in.at<cv::Vec2f>(v, u);
+          xs.push_back(f[0]);
+          ys.push_back(f[1]);
+        }
+      if (!inside) continue;
+      const auto mid = static_cast<std::ptrdiff_t>(xs.size() / 2);
+      std::nth_element(xs.begin(), xs.begin() + mid, xs.end());
+      std::nth_element(ys.begin(), ys.begin() + mid, ys.end());
+      flow->at<cv::Vec2f>(y, x) = cv::Vec2f(xs[mid], ys[mid]);
+    }
+  });
 }
 
 }  // namespace u4d

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <functional>
 #include <limits>
 #include <map>
@@ -219,6 +220,12 @@ SolvedFrame SolveFrame(RunContext& c, int f, const std::vector<std::vector<Pose3
   return solved;
 }
 
+// The odd side nearest to `side` (at least 1).
+int OddSide(double side) {
+  const int k = std::max(1, static_cast<int>(std::lround(side)));
+  return k % 2 == 1 ? k : k + 1;
+}
+
 // The scene's maps of a solved frame at camera size (ToCameraSize), before
 // the flow's camera-size step.
 void FrameMaps(const RunContext& c, SolvedFrame& s) {
@@ -252,6 +259,8 @@ void WriteFrameMaps(const RunContext& c, SolvedFrame& s, const std::vector<cv::M
       RefineFlowAtCameraSize(maps.labels, s.full_images[v], s.full_images_t1[v],
                              c.o.frame_setup.flow_window_px, &maps.flow,
                              objects ? labels_t1[v] : cv::Mat());
+      if (const int median = c.o.frame_setup.flow_median_px; median > 0)
+        MedianFilterObjectFlow(maps.labels, OddSide(median / s.scale), &maps.flow);
       cv::Mat working;
       cv::resize(maps.flow, working, s.flow[v].size(), 0, 0, cv::INTER_AREA);
       working *= s.scale;
