@@ -93,7 +93,8 @@ struct FrameSetupOptions {
   // That step also tries each object's own match, with everything outside
   // the object at t and at t+1 greyed out (camera_flow.h): a neighbour that
   // moves otherwise cannot drag its pixels. The objects at t+1 are the next
-  // frame's refined labels, or its initial masks at the run's last frame.
+  // frame's refined labels, or its initial masks where no next frame is
+  // solved (the run's end, a gap, an error).
   bool flow_object_matches = true;
   // Then each object's camera-size flow is median-filtered over a square of
   // this side in working pixels, where the square lies inside the object

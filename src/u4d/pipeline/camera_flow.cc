@@ -75,11 +75,9 @@ cv::Mat ObjectMatches(const cv::Mat& labels, const cv::Mat& labels_t1, const cv:
     cv::dilate(labels == id, at_t, grow);
     cv::dilate(labels_t1 == id, at_t1, grow);
     if (cv::countNonZero(at_t1) == 0) continue;
-    const cv::Rect box = cv::boundingRect(at_t | at_t1);
-    const int margin = box.width / 5 + kMinMatchSide;
+    const cv::Mat both_frames = at_t | at_t1;
     const cv::Rect crop =
-        cv::Rect(box.x - margin, box.y - margin, box.width + 2 * margin, box.height + 2 * margin) &
-        cv::Rect(0, 0, labels.cols, labels.rows);
+        ObjectBox(both_frames, cv::boundingRect(both_frames).width / 5 + kMinMatchSide);
     const cv::Mat match = baselines::DenseFlow(baselines::DenseFlowMethod::kDisFine,
                                                OnlyObject(grey_t(crop), at_t(crop)),
                                                OnlyObject(grey_t1(crop), at_t1(crop)));
@@ -142,24 +140,27 @@ void MedianFilterObjectFlow(const cv::Mat& labels, int window_px, cv::Mat* flow)
             "MedianFilterObjectFlow: the window must be odd and positive, got {}", window_px);
   U4D_CHECK(labels.type() == CV_16U && flow->type() == CV_32FC2 && labels.size() == flow->size(),
             "MedianFilterObjectFlow: expected CV_16U labels and a CV_32FC2 flow of one size");
+  // A pixel's window holds only its object where the smallest and the
+  // largest label in it agree (outside the image counts as neither).
+  const cv::Mat square = cv::Mat::ones(window_px, window_px, CV_8U);
+  cv::Mat low, high;
+  cv::erode(labels, low, square);
+  cv::dilate(labels, high, square);
+  const cv::Mat interior = (low == high) & (labels > 0);
   const cv::Mat in = flow->clone();
   const int r = window_px / 2;
   tbb::parallel_for(0, labels.rows, [&](int y) {
     std::vector<float> xs, ys;
     for (int x = 0; x < labels.cols; ++x) {
-      const uint16_t id = labels.at<uint16_t>(y, x);
-      if (id == 0) continue;
+      if (!interior.at<uint8_t>(y, x)) continue;
       xs.clear();
       ys.clear();
-      bool inside = true;
-      for (int v = std::max(0, y - r); inside && v <= std::min(labels.rows - 1, y + r); ++v)
-        for (int u = std::max(0, x - r); inside && u <= std::min(labels.cols - 1, x + r); ++u) {
-          inside = labels.at<uint16_t>(v, u) == id;
+      for (int v = std::max(0, y - r); v <= std::min(labels.rows - 1, y + r); ++v)
+        for (int u = std::max(0, x - r); u <= std::min(labels.cols - 1, x + r); ++u) {
           const cv::Vec2f& f = in.at<cv::Vec2f>(v, u);
           xs.push_back(f[0]);
           ys.push_back(f[1]);
         }
-      if (!inside) continue;
       const auto mid = static_cast<std::ptrdiff_t>(xs.size() / 2);
       std::nth_element(xs.begin(), xs.begin() + mid, xs.end());
       std::nth_element(ys.begin(), ys.begin() + mid, ys.end());
