@@ -183,6 +183,24 @@ TEST(Capture, ExtraCameraIsAnError) {
                                  {"calibration.json", "view cam1", "more than one camera record"});
 }
 
+// Each pixel of the score image holds its instance's score; the background
+// and an id without an entry hold 1.
+TEST(InstanceMask, ScoreImageHoldsEachInstancesScore) {
+  InstanceMask mask;
+  mask.ids = cv::Mat::zeros(2, 4, CV_16U);
+  mask.ids.at<uint16_t>(0, 1) = 3;
+  mask.ids.at<uint16_t>(1, 2) = 5;
+  mask.ids.at<uint16_t>(1, 3) = 9;  // not listed
+  mask.instances = {{3, "person", 0.25}, {5, "box", 0.75}};
+  const cv::Mat s = ScoreImage(mask);
+  ASSERT_EQ(s.type(), CV_32F);
+  EXPECT_EQ(s.at<float>(0, 1), 0.25f);
+  EXPECT_EQ(s.at<float>(1, 2), 0.75f);
+  EXPECT_EQ(s.at<float>(1, 3), 1.f);
+  EXPECT_EQ(s.at<float>(0, 0), 1.f);
+  EXPECT_TRUE(ScoreImage(InstanceMask{}).empty());
+}
+
 TEST(InstanceMask, MalformedJsonIsAnErrorNamingFileAndField) {
   using test_util::ExpectErrorMentions;
   const fs::path dir = FreshDir("mask");

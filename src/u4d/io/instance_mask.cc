@@ -54,4 +54,11 @@ void WriteInstanceMask(const fs::path& png, const fs::path& json, const Instance
   WriteJsonFileAtomic(json, {{"instances", inst}});
 }
 
+cv::Mat ScoreImage(const InstanceMask& mask) {
+  if (mask.ids.empty()) return {};
+  cv::Mat scores(mask.ids.size(), CV_32F, cv::Scalar(1));
+  for (const InstanceInfo& info : mask.instances) scores.setTo(info.score, mask.ids == info.id);
+  return scores;
+}
+
 }  // namespace u4d

@@ -33,4 +33,8 @@ struct InstanceMask {
 InstanceMask ReadInstanceMask(const fs::path& png, const fs::path& json);
 void WriteInstanceMask(const fs::path& png, const fs::path& json, const InstanceMask& mask);
 
+// CV_32F of the mask's size: each pixel the score of the instance it holds,
+// 1 on the background and on ids without an entry. Empty ids: empty.
+cv::Mat ScoreImage(const InstanceMask& mask);
+
 }  // namespace u4d

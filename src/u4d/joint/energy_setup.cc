@@ -177,7 +177,8 @@ LabelTermVolumes SetUpLabelUnaries(const JointViewInput& in, const JointViewOpti
                          &volumes.appearance);
   volumes.semantic = SemanticCosts(
       options.semantic_temporal ? SemanticLabelMaps(in) : std::vector{in.initial_labels},
-      in.num_labels, options.labels);
+      in.num_labels, options.labels,
+      options.labels.detector_scores ? in.label_scores : std::vector<double>{});
   if (!in.hull_support.empty())
     RelaxSemanticCosts(in.initial_labels, in.hull_support, &volumes.semantic);
   energy->use_pose = options.terms.pose && !in.people.empty();

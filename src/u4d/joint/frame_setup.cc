@@ -301,6 +301,9 @@ std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
     in.initial_labels = labels_at(data.masks_t, data.cameras_t, v, cam, data.poses_t);
     if (in.initial_labels.empty())
       in.initial_labels = cv::Mat::zeros(cam.height, cam.width, CV_16U);
+    if (v < static_cast<int>(data.scores_t.size()) && !data.scores_t[v].empty())
+      in.label_scores = LabelScores(in.initial_labels,
+                                    Resize(data.scores_t[v], cam, cv::INTER_NEAREST), num_labels);
     in.appearance_training.push_back({images_t[v], in.initial_labels});
     if (!images_prev[v].empty()) {
       const cv::Mat prev = labels_at(data.masks_prev, data.cameras_t, v, cam, data.poses_t);

@@ -51,8 +51,12 @@ struct JointFrameData {
   std::vector<Camera> cameras_t, cameras_t1;              // full resolution; t1 empty = last frame
   std::vector<cv::Mat> images_prev, images_t, images_t1;  // BGR; prev / t1 may be empty
   std::vector<cv::Mat> masks_prev, masks_t, masks_t1;     // CV_16U detector ids; empty Mat = none
-  std::vector<Pose3d> poses_t, poses_t1;                  // person_id >= 1
-  std::vector<std::vector<SparseMotion>> sparse;          // per view, t -> t+1, full resolution
+  // Per view: CV_32F the detector's score at each pixel of its masks at t
+  // (io/instance_mask.h ScoreImage), at camera size; empty (or an empty Mat)
+  // = 1 everywhere.
+  std::vector<cv::Mat> scores_t;
+  std::vector<Pose3d> poses_t, poses_t1;          // person_id >= 1
+  std::vector<std::vector<SparseMotion>> sparse;  // per view, t -> t+1, full resolution
   // The masks already hold object ids (the same in every view and frame,
   // e.g. from AssignInstancesToPeople or a cross-view association), so they
   // are not assigned to people again.

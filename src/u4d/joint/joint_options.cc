@@ -200,6 +200,8 @@ void DeclareOptions(OptionRegistry& r, LabelCostOptions* o) {
         "logistic scale of P_sem across a mask boundary (pixels)");
   r.Add("min_probability", &o->min_probability,
         "floor of P_sem and of the likelihood ratio (sets the normalisation)");
+  r.Add("detector_scores", &o->detector_scores,
+        "E_sem weighs each initial mask by its detector score (false: every mask is certain)");
   r.Add("seed", &o->seed, "sampling and EM initialisation");
 }
 

@@ -189,7 +189,10 @@ struct JointViewInput {
   std::vector<Camera> cameras_t, cameras_t1;  // all views
   std::vector<cv::Mat> images_t, images_t1;   // all views, BGR 8-bit; images_t1 empty = last frame
   cv::Mat initial_labels;                     // CV_16U object ids of the reference view
-  int num_labels = 1;                         // 1 + the largest object id
+  // Per label: the detector's score of its initial mask in this view (E_sem,
+  // label_costs.h LabelScores); empty = 1 for every label.
+  std::vector<double> label_scores;
+  int num_labels = 1;  // 1 + the largest object id
   std::vector<JointObject> objects;
   std::vector<LabelledImage> appearance_training;     // ψ_T (incl. frame t)
   std::vector<std::vector<Eigen::Vector2d>> markers;  // per label: sparse foreground pixels

@@ -339,12 +339,29 @@ LabelCostVolume AppearanceCosts(const cv::Mat& image, const std::vector<Labelled
 }
 
 LabelCostVolume SemanticCosts(const cv::Mat& initial_labels, int num_labels,
-                              const LabelCostOptions& options) {
-  return SemanticCosts(std::vector<cv::Mat>{initial_labels}, num_labels, options);
+                              const LabelCostOptions& options,
+                              const std::vector<double>& label_scores) {
+  return SemanticCosts(std::vector<cv::Mat>{initial_labels}, num_labels, options, label_scores);
 }
 
+namespace {
+
+// Label l's score (the background's and those past the list's end: 1).
+std::vector<double> ScoresOfLabels(const std::vector<double>& label_scores, int num_labels) {
+  std::vector<double> s(num_labels, 1.0);
+  for (int l = 1; l < num_labels && l < static_cast<int>(label_scores.size()); ++l) {
+    U4D_CHECK(label_scores[l] >= 0 && label_scores[l] <= 1,
+              "SemanticCosts: label {}'s score must be in [0, 1], got {}", l, label_scores[l]);
+    s[l] = label_scores[l];
+  }
+  return s;
+}
+
+}  // namespace
+
 LabelCostVolume SemanticCosts(const std::vector<cv::Mat>& label_maps, int num_labels,
-                              const LabelCostOptions& options) {
+                              const LabelCostOptions& options,
+                              const std::vector<double>& label_scores) {
   options.Check();
   U4D_CHECK(!label_maps.empty(), "SemanticCosts: need at least one label map");
   U4D_CHECK(num_labels >= 1, "SemanticCosts: need at least one label");
@@ -352,6 +369,7 @@ LabelCostVolume SemanticCosts(const std::vector<cv::Mat>& label_maps, int num_la
   for (const cv::Mat& m : label_maps)
     U4D_CHECK(m.type() == CV_16UC1 && m.cols == w && m.rows == h,
               "SemanticCosts: label maps must be CV_16U {}x{}", w, h);
+  const std::vector<double> score = ScoresOfLabels(label_scores, num_labels);
   const size_t n = static_cast<size_t>(w) * h;
   LabelCostVolume volume{w, h, num_labels, {}};
   volume.cost.assign(n * num_labels, 0.f);
@@ -367,9 +385,9 @@ LabelCostVolume SemanticCosts(const std::vector<cv::Mat>& label_maps, int num_la
     }
   const double eps = options.min_probability;
   tbb::parallel_for(0, h, [&](int y) {
-    std::vector<double> prob(num_labels), distances(label_maps.size());
+    std::vector<double> mask(num_labels), distances(label_maps.size());
     for (int x = 0; x < w; ++x) {
-      double sum = 0;
+      double doubt = 0;  // the masks' weight their scores do not give them
       for (int l = 0; l < num_labels; ++l) {
         // Inside pixels are at distance >= 1 from the boundary, outside <= -1
         // (distanceTransform counts to the nearest other pixel). Several maps:
@@ -382,16 +400,40 @@ LabelCostVolume SemanticCosts(const std::vector<cv::Mat>& label_maps, int num_la
         const size_t m = distances.size();
         const double inside =
             m % 2 == 1 ? distances[m / 2] : 0.5 * (distances[m / 2 - 1] + distances[m / 2]);
-        prob[l] = eps + 1.0 / (1.0 + std::exp(-inside / options.mask_softness_px));
-        sum += prob[l];
+        mask[l] = 1.0 / (1.0 + std::exp(-inside / options.mask_softness_px));
+        doubt += (1 - score[l]) * mask[l];
       }
       const size_t p = static_cast<size_t>(y) * w + x;
+      double sum = 0;
+      for (int l = 0; l < num_labels; ++l) {
+        mask[l] = eps + score[l] * mask[l] + doubt / num_labels;
+        sum += mask[l];
+      }
       for (int l = 0; l < num_labels; ++l)
-        volume.cost[l * n + p] = static_cast<float>(-std::log(prob[l] / sum));
+        volume.cost[l * n + p] = static_cast<float>(-std::log(mask[l] / sum));
     }
   });
   NormaliseToBest(-std::log(eps), &volume);
   return volume;
+}
+
+std::vector<double> LabelScores(const cv::Mat& labels, const cv::Mat& scores, int num_labels) {
+  std::vector<double> mean(std::max(num_labels, 1), 1.0);
+  if (scores.empty()) return mean;
+  U4D_CHECK(
+      labels.type() == CV_16UC1 && scores.type() == CV_32FC1 && labels.size() == scores.size(),
+      "LabelScores: labels must be CV_16U and scores CV_32F of the same size");
+  std::vector<double> sum(mean.size(), 0);
+  std::vector<int> count(mean.size(), 0);
+  for (int y = 0; y < labels.rows; ++y) {
+    const uint16_t* l = labels.ptr<uint16_t>(y);
+    const float* s = scores.ptr<float>(y);
+    for (int x = 0; x < labels.cols; ++x)
+      if (l[x] > 0 && l[x] < num_labels) sum[l[x]] += s[x], ++count[l[x]];
+  }
+  for (size_t l = 1; l < mean.size(); ++l)
+    if (count[l] > 0) mean[l] = std::clamp(sum[l] / count[l], 0.0, 1.0);
+  return mean;
 }
 
 void RelaxSemanticCosts(const cv::Mat& initial_labels, const cv::Mat& support,

@@ -11,7 +11,11 @@
 //   initial instance masks: a logistic function of the signed distance to each
 //   label's mask boundary, floored at `min_probability` and normalised over
 //   the labels. (Mask R-CNN-style detectors give hard masks; the softening
-//   expresses that their boundaries are uncertain by a few pixels.)
+//   expresses that their boundaries are uncertain by a few pixels.) A
+//   detector's score s_l for label l's mask is its probability: P_sem puts
+//   s_l of the mask's weight on l and spreads the rest, 1 − s_l, evenly over
+//   every label, so a doubtful detection (a false positive, two people
+//   merged) constrains less. Scores of 1 give the hard masks' P_sem.
 //
 // Normalisation: both terms are negative log ratios to the best label at the
 // pixel, divided by log(1 / min_probability) and clamped to [0, 1], so a
@@ -53,7 +57,10 @@ struct LabelCostOptions {
   int appearance_inset_px = 2;
   double mask_softness_px = 2.0;  // logistic scale of P_sem across a mask boundary (pixels)
   double min_probability =
-      0.01;           // floor of P_sem and of the likelihood ratio (sets the normalisation)
+      0.01;  // floor of P_sem and of the likelihood ratio (sets the normalisation)
+  // E_sem weighs each initial mask by its detector score (SemanticCosts'
+  // `label_scores`); false: every mask is certain (score 1).
+  bool detector_scores = true;
   uint64_t seed = 7;  // sampling and EM initialisation
   void Check() const;
 };
@@ -94,8 +101,11 @@ LabelCostVolume AppearanceCosts(const cv::Mat& image, const std::vector<Labelled
                                 const cv::Mat& where = cv::Mat());
 
 // E_sem for labels 0..num_labels-1 from the initial label map (CV_16U).
+// `label_scores[l]` is the detector's score of label l's mask, in [0, 1]
+// (empty, or a label beyond its end: 1; the background's is always 1).
 LabelCostVolume SemanticCosts(const cv::Mat& initial_labels, int num_labels,
-                              const LabelCostOptions& options = {});
+                              const LabelCostOptions& options = {},
+                              const std::vector<double>& label_scores = {});
 // E_sem from several label maps of the same pixels (CV_16U, same size): the
 // paper sums E_sem over the temporal neighbourhood ψ_T; here the maps (e.g.
 // the initial masks of t−1, t, t+1 carried to t) are combined before the
@@ -106,9 +116,17 @@ LabelCostVolume SemanticCosts(const cv::Mat& initial_labels, int num_labels,
 // their −log, does not outvote it near the boundary: a pixel 1 px outside the
 // truth is 4 px inside a mask dilated by 5 px, and that one confident map
 // wins against two that are just outside.) One map gives the function above.
-// Throws on an empty list or a size or type mismatch.
+// Throws on an empty list, a size or type mismatch, or a score outside [0, 1].
 LabelCostVolume SemanticCosts(const std::vector<cv::Mat>& label_maps, int num_labels,
-                              const LabelCostOptions& options = {});
+                              const LabelCostOptions& options = {},
+                              const std::vector<double>& label_scores = {});
+
+// Each label's score in a view: the mean of `scores` (CV_32F, the detector's
+// score at each pixel of its masks, 1 where it has none) over the label's
+// pixels in `labels` (CV_16U, the same size). Labels without a pixel, and the
+// background, get 1. Empty `scores`: every label 1. Throws on a size or type
+// mismatch.
+std::vector<double> LabelScores(const cv::Mat& labels, const cv::Mat& scores, int num_labels);
 
 // E_sem where the other views contradict the detector: at each pixel whose
 // `support` (CV_16U, hull_support.h: the view's background, or a person the

@@ -110,6 +110,60 @@ TEST(SemanticCostsTest, CombinedMapsOutvoteOneMapsError) {
                Error);
 }
 
+// A detector's score is the probability of its mask (SemanticCosts'
+// label_scores): scores of 1 give the hard masks' E_sem exactly; a score of 0
+// leaves no preference among the labels inside its mask; in between, the
+// background's cost inside a mask falls as the score falls, and nothing
+// changes outside the masks. Deep inside a mask of score s among L labels,
+// P_sem(l) is proportional to min_probability + [l is the mask's] s + (1 − s) / L.
+TEST(SemanticCostsTest, ADetectionsScoreIsItsProbability) {
+  const int w = 140, h = 80;
+  cv::Mat labels = cv::Mat::zeros(h, w, CV_16U);
+  labels(cv::Rect(5, 5, 40, 50)).setTo(1);   // a person, high score
+  labels(cv::Rect(55, 5, 40, 50)).setTo(2);  // a doubtful detection
+  const LabelCostOptions options;
+  const LabelCostVolume hard = SemanticCosts(labels, 3, options);
+  const LabelCostVolume ones = SemanticCosts(labels, 3, options, {1.0, 1.0, 1.0});
+  EXPECT_EQ(ones.cost, hard.cost);
+  const int inside1 = 30 * w + 25, inside2 = 30 * w + 75, outside = 75 * w + 130;
+  const double eps = options.min_probability, norm = -std::log(eps);
+  const auto background_cost = [&](double s) {  // deep inside a mask of score s, 3 labels
+    const double doubt = (1 - s) / 3;
+    return std::min(1.0, std::log((eps + s + doubt) / (eps + doubt)) / norm);
+  };
+  for (const double s : {0.9, 0.6, 0.3}) {
+    const LabelCostVolume v = SemanticCosts(labels, 3, options, {1.0, 1.0, s});
+    EXPECT_NEAR(v.At(inside2, 0), background_cost(s), 1e-3) << "score " << s;
+    EXPECT_EQ(v.At(inside2, 2), 0.f) << "the mask's own label stays the best";
+    EXPECT_NEAR(v.At(inside1, 0), hard.At(inside1, 0), 1e-3) << "the other mask keeps its cost";
+    EXPECT_NEAR(v.At(outside, 2), hard.At(outside, 2), 1e-3) << "outside the masks";
+  }
+  EXPECT_GT(SemanticCosts(labels, 3, options, {1.0, 1.0, 0.9}).At(inside2, 0),
+            SemanticCosts(labels, 3, options, {1.0, 1.0, 0.6}).At(inside2, 0));
+  const LabelCostVolume none = SemanticCosts(labels, 3, options, {1.0, 1.0, 0.0});
+  for (int l = 0; l < 3; ++l) EXPECT_NEAR(none.At(inside2, l), 0.f, 1e-3) << "label " << l;
+  EXPECT_THROW(SemanticCosts(labels, 3, options, {1.0, 1.0, 1.5}), Error);
+  EXPECT_THROW(SemanticCosts(labels, 3, options, {1.0, -0.1}), Error);
+}
+
+// A label's score in a view is the mean detector score over its pixels.
+TEST(LabelScoresTest, TheMeanScoreOverEachLabelsPixels) {
+  cv::Mat labels = cv::Mat::zeros(4, 6, CV_16U), scores(4, 6, CV_32F, cv::Scalar(1));
+  labels.colRange(0, 3).setTo(1);  // label 1: half at 0.5, half at 0.9
+  scores(cv::Rect(0, 0, 3, 2)).setTo(0.5);
+  scores(cv::Rect(0, 2, 3, 2)).setTo(0.9);
+  labels.colRange(4, 6).setTo(3);  // label 3 at 0.2
+  scores.colRange(4, 6).setTo(0.2);
+  const std::vector<double> s = LabelScores(labels, scores, 4);
+  ASSERT_EQ(s.size(), 4u);
+  EXPECT_EQ(s[0], 1.0);  // the background
+  EXPECT_NEAR(s[1], 0.7, 1e-6);
+  EXPECT_EQ(s[2], 1.0);  // no pixel
+  EXPECT_NEAR(s[3], 0.2, 1e-6);
+  EXPECT_EQ(LabelScores(labels, cv::Mat(), 4), std::vector<double>(4, 1.0));
+  EXPECT_THROW(LabelScores(labels, cv::Mat(3, 6, CV_32F), 4), Error);
+}
+
 // E_a on a two-colour image with known labels: the true label is the cheaper
 // one; limited to `where`, the costs there are the same and elsewhere 0.
 TEST(AppearanceCostsTest, FavoursTheTrueLabelAndEvaluatesOnlyWhereAsked) {

@@ -45,18 +45,6 @@ std::vector<std::vector<Pose3d>> TrackPosesInShots(const RunContext& c,
   return poses;
 }
 
-std::vector<InstanceMask> ReadGivenMasks(RunContext& c, int frame) {
-  std::vector<InstanceMask> masks(c.NumViews());
-  for (int v = 0; v < c.NumViews(); ++v) {
-    const fs::path png = c.cap.root / layout::Mask(c.names[v], frame);
-    if (!fs::exists(png)) continue;
-    masks[v] = ReadInstanceMask(png, c.cap.root / layout::MaskInfo(c.names[v], frame));
-    CheckImageSize(masks[v].ids, c.cap.views[v].CameraAt(frame).width,
-                   c.cap.views[v].CameraAt(frame).height, png.string());
-  }
-  return masks;
-}
-
 // Given masks, no poses: per frame run, the people to start its ground
 // step from where they are the next frame's (PeopleFromTheNextFrame, each
 // shot on its own).
@@ -76,6 +64,18 @@ std::vector<std::optional<PeoplePositions>> NextFramePeople(RunContext& c) {
 }
 
 }  // namespace
+
+std::vector<InstanceMask> ReadGivenMasks(const RunContext& c, int frame) {
+  std::vector<InstanceMask> masks(c.NumViews());
+  for (int v = 0; v < c.NumViews(); ++v) {
+    const fs::path png = c.cap.root / layout::Mask(c.names[v], frame);
+    if (!fs::exists(png)) continue;
+    masks[v] = ReadInstanceMask(png, c.cap.root / layout::MaskInfo(c.names[v], frame));
+    CheckImageSize(masks[v].ids, c.cap.views[v].CameraAt(frame).width,
+                   c.cap.views[v].CameraAt(frame).height, png.string());
+  }
+  return masks;
+}
 
 // ---- poses ----
 

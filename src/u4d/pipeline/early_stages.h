@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "u4d/features/temporal_tracks.h"
+#include "u4d/io/instance_mask.h"
 #include "u4d/io/poses.h"
 #include "u4d/keyframes/keyframe_similarity.h"
 #include "u4d/pipeline/run_context.h"
@@ -19,6 +20,11 @@ namespace u4d {
 // (ids unique over the run, from 1), or none. Writes poses3d/.
 std::vector<std::vector<Pose3d>> ComputePoses(RunContext& c);
 std::vector<std::vector<Pose3d>> ReadScenePoses(const RunContext& c);
+
+// The capture's given masks of `frame`, per view (an empty mask where a view
+// has none). Throws naming the file on a bad mask or a size that is not the
+// camera's.
+std::vector<InstanceMask> ReadGivenMasks(const RunContext& c, int frame);
 
 // Per frame, the initial objects (initial/): from the given masks or the
 // unsupervised chain, named by the poses, the ground-plane step or the

@@ -147,6 +147,8 @@ SolvedFrame SolveFrame(RunContext& c, int f, const std::vector<std::vector<Pose3
   data.images_t = ReadViews(c, f);
   const FrameObjects objects = ReadFrameObjects(c.out, c.names, f);
   data.masks_t = objects.ids;
+  if (c.masks == MaskSource::kGiven)  // the detector's scores weigh E_sem
+    for (const InstanceMask& m : ReadGivenMasks(c, f)) data.scores_t.push_back(ScoreImage(m));
   if (f + 1 < c.cap.num_frames && c.Continues(f + 1)) {
     data.cameras_t1 = c.Cameras(f + 1);
     data.images_t1 = ReadViews(c, f + 1);
