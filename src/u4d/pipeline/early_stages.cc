@@ -13,6 +13,7 @@
 #include "u4d/io/visualize.h"
 #include "u4d/pipeline/initial_objects.h"
 #include "u4d/pipeline/object_classes.h"
+#include "u4d/pipeline/unlabelled_objects.h"
 #include "u4d/pipeline/view_stage.h"
 #include "u4d/pose/given_poses.h"
 #include "u4d/pose/pose_smoothing.h"
@@ -43,6 +44,15 @@ std::vector<std::vector<Pose3d>> TrackPosesInShots(const RunContext& c,
     next_id = max_id + 1;
   }
   return poses;
+}
+
+// Given masks on two or more static cameras: objects the detector missed
+// everywhere are looked for (unlabelled_objects.h).
+bool FindsUnlabelledObjects(const RunContext& c) {
+  if (c.masks != MaskSource::kGiven || !c.o.unlabelled.enabled || c.NumViews() < 2) return false;
+  for (const CaptureView& view : c.cap.views)
+    if (view.IsMoving()) return false;
+  return true;
 }
 
 // Given masks, no poses: per frame run, the people to start its ground
@@ -125,7 +135,7 @@ std::vector<std::vector<Pose3d>> ReadScenePoses(const RunContext& c) {
 int ComputeInitialObjects(RunContext& c, const std::vector<std::vector<Pose3d>>& poses) {
   std::vector<BackgroundModel> backgrounds;
   std::vector<ChromaKey> keys;
-  if (c.masks == MaskSource::kUnsupervised) {
+  if (c.masks == MaskSource::kUnsupervised || FindsUnlabelledObjects(c)) {
     for (int v = 0; v < c.NumViews(); ++v) {
       U4D_CHECK(!c.cap.views[v].IsMoving(),
                 "view {} moves: unsupervised masks need static cameras (give masks/ instead)",
@@ -164,8 +174,12 @@ int ComputeInitialObjects(RunContext& c, const std::vector<std::vector<Pose3d>>&
     if (next_people[k]) ground_people = *next_people[k];
     const std::vector<Camera> cams = c.Cameras(f);
     const std::vector<cv::Mat> images = ReadViews(c, f);
-    const std::vector<InstanceMask> given =
+    std::vector<InstanceMask> given =
         c.masks == MaskSource::kGiven ? ReadGivenMasks(c, f) : std::vector<InstanceMask>();
+    if (FindsUnlabelledObjects(c))
+      AddUnlabelledObjects(
+          UnexplainedForeground(cams, images, backgrounds, keys, given, c.o.init, c.o.unlabelled),
+          c.o.unlabelled, &given);
     std::vector<cv::Mat> masks = IdImages(given);
     if (c.masks == MaskSource::kUnsupervised)
       masks = UnsupervisedInstanceMasks(cams, images, backgrounds, c.o.init, keys);

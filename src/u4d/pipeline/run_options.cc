@@ -75,6 +75,7 @@ void RunOptions::Check() const {
   sparse.Check();
   regions.Check();
   link.Check();
+  unlabelled.Check();
   tracks.Check();
   keyframes.Check();
   fusion.Check();
@@ -114,6 +115,20 @@ void DeclareOptions(OptionRegistry& r, ObjectLinkOptions* o) {
         "farther centroids (per frame unseen) are different objects");
   r.Add("max_missing_frames", &o->max_missing_frames,
         "an unseen object is forgotten after this many frames");
+}
+
+void DeclareOptions(OptionRegistry& r, UnlabelledObjectOptions* o) {
+  r.Add("enabled", &o->enabled,
+        "with given masks on static cameras, foreground no given instance explains and the other "
+        "views confirm becomes an object (unlabelled_objects.h)");
+  r.Add("margin_px", &o->margin_px,
+        "foreground within this distance of a given instance is its boundary error; 0 = 1 px per "
+        "60 px of image height");
+  r.Add("min_view_fraction", &o->min_view_fraction,
+        "of the other views seeing a point of it, the share whose unexplained foreground holds it");
+  r.Add("min_area_fraction", &o->min_area_fraction,
+        "components smaller than this share of the image are dropped");
+  r.Add("class_name", &o->class_name, "the class of the objects found");
 }
 
 void DeclareOptions(OptionRegistry& r, RunOptions* o) {
@@ -175,6 +190,7 @@ void DeclareOptions(OptionRegistry& r, RunOptions* o) {
   r.Nested("sparse", &o->sparse);
   r.Nested("regions", &o->regions);
   r.Nested("link", &o->link);
+  r.Nested("unlabelled", &o->unlabelled);
   r.Nested("tracks", &o->tracks);
   r.Nested("keyframes", &o->keyframes);
   r.Nested("fusion", &o->fusion);

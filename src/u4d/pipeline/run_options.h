@@ -22,6 +22,7 @@
 #include "u4d/joint/joint_view.h"
 #include "u4d/keyframes/keyframe_similarity.h"
 #include "u4d/pipeline/initial_objects.h"
+#include "u4d/pipeline/unlabelled_objects.h"
 #include "u4d/pose/multiview_pose.h"
 #include "u4d/pose/pose_smoothing.h"
 #include "u4d/pose/pose_tracking.h"
@@ -79,7 +80,8 @@ struct RunOptions {
   PoseSmoothingOptions pose_smoothing;  // poses from 2D only: offline smoothing after tracking
   SparseFrameOptions sparse;
   ObjectRegionOptions regions;
-  ObjectLinkOptions link;  // without poses: object ids through time
+  ObjectLinkOptions link;              // without poses: object ids through time
+  UnlabelledObjectOptions unlabelled;  // given masks: objects the detector missed everywhere
   TemporalTrackOptions tracks;
   KeyframeOptions keyframes;
   FusionOptions fusion;
@@ -100,6 +102,7 @@ struct RunOptions {
 // for params.json, --config and docs/options.md (util/options.h), and the
 // preset `ablation`: the paper's ablation (AblationTerms) as joint.terms.
 void DeclareOptions(OptionRegistry& r, ObjectLinkOptions* o);
+void DeclareOptions(OptionRegistry& r, UnlabelledObjectOptions* o);
 void DeclareOptions(OptionRegistry& r, RunOptions* o);
 
 // Options JSON of the earlier format (params.json written before `ablation`
