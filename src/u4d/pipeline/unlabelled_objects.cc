@@ -29,14 +29,14 @@ cv::Mat UnexplainedInView(const cv::Mat& image, const BackgroundModel* backgroun
   // No mask file: the detector did not run there (io/instance_mask.h), so
   // nothing there is known to be unexplained.
   if (given.ids.empty()) return cv::Mat::zeros(image.size(), CV_8U);
+  U4D_CHECK(given.ids.size() == image.size(),
+            "UnexplainedForeground: a mask of {}x{} for an image of {}x{}", given.ids.cols,
+            given.ids.rows, image.cols, image.rows);
   cv::Mat foreground = key ? ChromaKeyMask(image, *key) : ForegroundMask(image, *background, init);
   foreground = foreground > 0;
   // Where a median background holds a person who has since moved (init.h step 5).
   if (!key && init.still.remove_ghosts)
     foreground = RemoveGhosts(image, foreground, *background, init);
-  U4D_CHECK(given.ids.size() == image.size(),
-            "UnexplainedForeground: a mask of {}x{} for an image of {}x{}", given.ids.cols,
-            given.ids.rows, image.cols, image.rows);
   const int margin = options.margin_px > 0 ? options.margin_px : std::max(1, image.rows / 60);
   cv::Mat explained;
   cv::dilate(given.ids > 0, explained,

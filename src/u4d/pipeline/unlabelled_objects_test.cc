@@ -127,6 +127,17 @@ TEST(UnlabelledObjects, BadInputIsAnError) {
   std::vector<InstanceMask> given(2);
   EXPECT_THROW(AddUnlabelledObjects({cv::Mat()}, {}, &given), Error);
   EXPECT_THROW(UnexplainedForeground({Camera{}}, {}, {}, {}, {}, {}, {}), Error);
+  // A mask whose size is not its view's.
+  std::vector<InstanceMask> one(1);
+  one[0].ids = cv::Mat::zeros(4, 4, CV_16U);
+  EXPECT_THROW(AddUnlabelledObjects({cv::Mat::zeros(3, 3, CV_8U)}, {}, &one), Error);
+  const cv::Mat image = cv::Mat::zeros(3, 3, CV_8UC3);
+  test_util::ExpectErrorMentions(
+      [&] {
+        UnexplainedForeground({Camera{}, Camera{}}, {image, image}, {{}, {}}, {},
+                              {one[0], InstanceMask{}}, {}, {});
+      },
+      {"a mask of 4x4", "an image of 3x3"});
 }
 
 }  // namespace
