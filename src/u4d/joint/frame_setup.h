@@ -101,7 +101,7 @@ struct FrameSetupOptions {
   // solved (the run's end, a gap, an error).
   bool flow_object_matches = true;
   // Then each object's camera-size flow is median-filtered over a square of
-  // this side in working pixels, where the square lies inside the object
+  // this side in working pixels, over the object's own pixels in it
   // (camera_flow.h MedianFilterObjectFlow; Sun, Roth and Black 2010's 5x5
   // median, here at the solve's resolution); 0 = off.
   int flow_median_px = 5;

@@ -28,7 +28,7 @@ void DeclareOptions(OptionRegistry& r, FrameSetupOptions* o) {
         "and t+1 (false: the whole image's match only)");
   r.Add("flow_median_px", &o->flow_median_px,
         "then each object's camera-size flow is median-filtered over a square of this side, "
-        "working pixels, where the square lies inside the object (0 = off)");
+        "working pixels, over the object's own pixels there (0 = off)");
   r.Add("colour_from_other_views", &o->colour_from_other_views,
         "with several objects in the view, each object's colour model (E_a) also learns from "
         "its pixels in the other views at t (false: only an object the view's labels lack)");

@@ -140,23 +140,18 @@ void MedianFilterObjectFlow(const cv::Mat& labels, int window_px, cv::Mat* flow)
             "MedianFilterObjectFlow: the window must be odd and positive, got {}", window_px);
   U4D_CHECK(labels.type() == CV_16U && flow->type() == CV_32FC2 && labels.size() == flow->size(),
             "MedianFilterObjectFlow: expected CV_16U labels and a CV_32FC2 flow of one size");
-  // A pixel's window holds only its object where the smallest and the
-  // largest label in it agree (outside the image counts as neither).
-  const cv::Mat square = cv::Mat::ones(window_px, window_px, CV_8U);
-  cv::Mat low, high;
-  cv::erode(labels, low, square);
-  cv::dilate(labels, high, square);
-  const cv::Mat interior = (low == high) & (labels > 0);
   const cv::Mat in = flow->clone();
   const int r = window_px / 2;
   tbb::parallel_for(0, labels.rows, [&](int y) {
     std::vector<float> xs, ys;
     for (int x = 0; x < labels.cols; ++x) {
-      if (!interior.at<uint8_t>(y, x)) continue;
+      const uint16_t id = labels.at<uint16_t>(y, x);
+      if (id == 0) continue;
       xs.clear();
       ys.clear();
       for (int v = std::max(0, y - r); v <= std::min(labels.rows - 1, y + r); ++v)
         for (int u = std::max(0, x - r); u <= std::min(labels.cols - 1, x + r); ++u) {
+          if (labels.at<uint16_t>(v, u) != id) continue;
           const cv::Vec2f& f = in.at<cv::Vec2f>(v, u);
           xs.push_back(f[0]);
           ys.push_back(f[1]);

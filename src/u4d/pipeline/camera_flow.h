@@ -40,18 +40,18 @@ namespace u4d {
 void RefineFlowAtCameraSize(const cv::Mat& labels, const cv::Mat& image_t, const cv::Mat& image_t1,
                             int window_px, cv::Mat* flow, const cv::Mat& labels_t1 = {});
 
-// The flow of every object pixel (`labels` > 0) whose `window_px` square
-// (clipped to the image) holds only its own object becomes the
-// per-component median of the flows in that square: a pixel that took
-// another motion than its neighbours (a wrong match in a weak texture, an
-// ambiguous pick of the step above) is outvoted. This is the median
-// filtering of classic flow methods (Sun, Roth and Black, "Secrets of
-// optical flow estimation and their principles", CVPR 2010: a 5x5 median
-// at each warping step), kept inside the objects. A pixel nearer an
-// object's boundary keeps its flow: there the window's pixels of the object
-// lie on one side, and their median is the interior's motion, not the
-// edge's own (a limb's edge, what a silhouette carried by the flow
-// follows). Background pixels keep their flow.
+// The flow of every object pixel (`labels` > 0) becomes the per-component
+// median of the flows of the pixels of its own object in the `window_px`
+// square around it (clipped to the image): a pixel that took another motion
+// than its neighbours (a wrong match in a weak texture, an ambiguous pick of
+// the step above) is outvoted. This is the median filtering of classic flow
+// methods (Sun, Roth and Black, "Secrets of optical flow estimation and their
+// principles", CVPR 2010: a 5x5 median at each warping step, weighted there
+// so that it does not cross motion boundaries), here kept inside each object
+// by its labels. Near a boundary the window's pixels of other objects and of
+// the background, which move otherwise, do not vote: an object's edge takes
+// its own object's motion. The camera-size step above errs most there, as its
+// brightness window straddles the boundary. Background pixels keep their flow.
 // CV_16U labels and CV_32FC2 flow of one size; throws u4d::Error on a
 // mismatch or a window that is not odd and positive.
 void MedianFilterObjectFlow(const cv::Mat& labels, int window_px, cv::Mat* flow);
