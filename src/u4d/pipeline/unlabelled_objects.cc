@@ -1,6 +1,8 @@
 #include "u4d/pipeline/unlabelled_objects.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <vector>
 
 #include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
@@ -87,16 +89,21 @@ int AddUnlabelledObjects(const std::vector<cv::Mat>& unexplained,
               v);
     int next_id = 1;
     for (const InstanceInfo& info : mask.instances) next_id = std::max(next_id, info.id + 1);
-    cv::Mat components;
-    const int num = cv::connectedComponents(unexplained[v] > 0, components, 8, CV_32S);
-    const double min_area = options.min_area_fraction * unexplained[v].total();
+    // One pass over the components' areas, one over the pixels.
+    cv::Mat components, stats, centroids;
+    const int num = cv::connectedComponentsWithStats(unexplained[v] > 0, components, stats,
+                                                     centroids, 8, CV_32S);
+    const double min_area = std::max(1.0, options.min_area_fraction * unexplained[v].total());
+    std::vector<uint16_t> new_id(num, 0);
     for (int c = 1; c < num && next_id < 65536; ++c) {
-      const cv::Mat component = components == c;
-      if (cv::countNonZero(component) < std::max(1.0, min_area)) continue;
-      mask.ids.setTo(next_id, component);
+      if (stats.at<int>(c, cv::CC_STAT_AREA) < min_area) continue;
+      new_id[c] = static_cast<uint16_t>(next_id);
       mask.instances.push_back({next_id, options.class_name, 1.0});
       ++next_id, ++added;
     }
+    for (int y = 0; y < components.rows; ++y)
+      for (int x = 0; x < components.cols; ++x)
+        if (const uint16_t id = new_id[components.at<int>(y, x)]) mask.ids.at<uint16_t>(y, x) = id;
   }
   return added;
 }
