@@ -60,7 +60,7 @@ struct FusionOptions {
   double max_view_angle_deg = 80.0;     // drop points seen more obliquely than this
   bool consistency_filter = true;       // drop points no other view confirms
   int min_agreeing_views = 1;           // with the filter: other views that must agree
-  double consistency_tolerance = 0.02;  // metres of depth difference counted as agreement
+  double consistency_tolerance = 0.04;  // metres counted as agreement (> the maps' own error)
   double min_confidence = 0.0;          // drop points with a lower confidence (in [0, 1])
   int min_points = 100;                 // fewer oriented points: empty result
   // Octree depth of the Poisson reconstruction. 7 takes about half the time

@@ -10,7 +10,7 @@ void DeclareOptions(OptionRegistry& r, FusionOptions* o) {
   r.Add("min_agreeing_views", &o->min_agreeing_views,
         "with the filter: other views that must agree");
   r.Add("consistency_tolerance", &o->consistency_tolerance,
-        "metres of depth difference counted as agreement");
+        "metres of depth difference counted as agreement (above the depth maps' own error)");
   r.Add("min_confidence", &o->min_confidence, "drop points with a lower confidence (in [0, 1])");
   r.Add("min_points", &o->min_points, "fewer oriented points: empty result");
   r.Add("poisson_depth", &o->poisson_depth, "octree depth of the Poisson reconstruction");
