@@ -6,7 +6,6 @@
 
 #include <gtest/gtest.h>
 #include <open3d/geometry/TriangleMesh.h>
-#include <opencv2/imgproc.hpp>
 
 #include "u4d/eval/mesh_metrics.h"
 #include "u4d/fusion/fusion_test_util.h"
@@ -111,12 +110,8 @@ TEST_F(DepthFusionTest, DepthAsNoisyAsTheSolvesKeepsTheSurfaceWhole) {
   std::vector<cv::Mat> noisy(maps_.depths.size());
   cv::RNG rng(5);
   for (size_t v = 0; v < noisy.size(); ++v) {
-    cv::Mat field(maps_.depths[v].size(), CV_32F);
-    rng.fill(field, cv::RNG::NORMAL, 0.0, 1.0);
-    cv::GaussianBlur(field, field, cv::Size(), kNoiseScalePx);
-    cv::Scalar mean, stddev;
-    cv::meanStdDev(field, mean, stddev);
-    field *= kNoiseRel / stddev[0];
+    const cv::Mat field =
+        fusion_test::SmoothNoise(maps_.depths[v].size(), 1, kNoiseRel, kNoiseScalePx, rng);
     noisy[v] = maps_.depths[v].mul(1.0f + field);
   }
   for (int id = 1; id <= 2; ++id) {

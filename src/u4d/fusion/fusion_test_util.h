@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "u4d/io/capture.h"
 #include "u4d/io/image_io.h"
@@ -25,6 +26,19 @@ inline fs::path WriteSmallCapture(const std::string& name) {
   o.write_meshes = true;
   o.start_frame = 10;
   return synth::WriteCaptureToTempDir(name, o);
+}
+
+// Smooth zero-mean noise of standard deviation `sigma` (Gaussian noise
+// blurred over `blur_px` pixels, as the errors of a regularised estimate are).
+inline cv::Mat SmoothNoise(cv::Size size, int channels, double sigma, double blur_px,
+                           cv::RNG& rng) {
+  cv::Mat n(size, CV_32FC(channels));
+  rng.fill(n, cv::RNG::NORMAL, cv::Scalar::all(0), cv::Scalar::all(1));
+  cv::GaussianBlur(n, n, cv::Size(0, 0), blur_px);
+  cv::Scalar mean, stddev;
+  cv::meanStdDev(n.reshape(1), mean, stddev);
+  n.convertTo(n, -1, sigma / stddev[0]);
+  return n;
 }
 
 // GT maps of `frame` (flow only when frame + 1 exists).

@@ -21,18 +21,6 @@
 namespace u4d {
 namespace {
 
-// Smooth zero-mean noise of standard deviation `sigma` (Gaussian noise
-// blurred over a few pixels, as the errors of a regularised estimate are).
-cv::Mat SmoothNoise(cv::Size size, int channels, double sigma, cv::RNG& rng) {
-  cv::Mat n(size, CV_32FC(channels));
-  rng.fill(n, cv::RNG::NORMAL, cv::Scalar::all(0), cv::Scalar::all(1));
-  cv::GaussianBlur(n, n, cv::Size(0, 0), 3.0);
-  cv::Scalar mean, stddev;
-  cv::meanStdDev(n.reshape(1), mean, stddev);
-  n.convertTo(n, -1, sigma / stddev[0]);
-  return n;
-}
-
 // The GT frames with what a per-frame estimate gets wrong: every frame's
 // depth maps carry their own relative error (sigma depth_rel) and the flows
 // an error of sigma flow_px.
@@ -43,12 +31,12 @@ std::vector<fusion_test::FrameMaps> Perturbed(const std::vector<fusion_test::Fra
   for (fusion_test::FrameMaps& f : out) {
     for (cv::Mat& d : f.depths) {
       d = d.clone();
-      const cv::Mat n = SmoothNoise(d.size(), 1, depth_rel, rng);
+      const cv::Mat n = fusion_test::SmoothNoise(d.size(), 1, depth_rel, 3.0, rng);
       d = d.mul(1 + n);  // 0 (no depth) stays 0
     }
     for (cv::Mat& m : f.flows) {
       cv::Mat noisy;  // a new buffer: the input frames share theirs
-      cv::add(m, SmoothNoise(m.size(), 2, flow_px, rng), noisy);
+      cv::add(m, fusion_test::SmoothNoise(m.size(), 2, flow_px, 3.0, rng), noisy);
       m = noisy;
     }
   }
