@@ -130,6 +130,8 @@ void FrameSetupOptions::Check() const {
             "FrameSetupOptions.flow_window_px must be odd and positive, got {}", flow_window_px);
   U4D_CHECK(flow_median_px >= 0, "FrameSetupOptions.flow_median_px must be >= 0, got {}",
             flow_median_px);
+  U4D_CHECK(flow_fill_radius_px >= 0, "FrameSetupOptions.flow_fill_radius_px must be >= 0, got {}",
+            flow_fill_radius_px);
   pose.Check();
   hull.Check();
 }

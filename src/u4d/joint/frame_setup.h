@@ -105,6 +105,12 @@ struct FrameSetupOptions {
   // (camera_flow.h MedianFilterObjectFlow; Sun, Roth and Black 2010's 5x5
   // median, here at the solve's resolution); 0 = off.
   int flow_median_px = 5;
+  // Then, with the objects at t+1 (flow_object_matches), the forward-backward
+  // check: an object pixel whose backward match does not lead back (occluded
+  // at t+1, or a wrong match in a weak texture) takes the affine motion of
+  // its object's consistent pixels within this radius in working pixels
+  // (camera_flow.h FillInconsistentObjectFlow); 0 = off.
+  int flow_fill_radius_px = 6;
   // With several objects in the view, E_a's colour models of each also
   // learn from its pixels in the other views at t (frame_setup.cc
   // BorrowColourSamples): a view whose detector merged two people has mixed

@@ -29,6 +29,10 @@ void DeclareOptions(OptionRegistry& r, FrameSetupOptions* o) {
   r.Add("flow_median_px", &o->flow_median_px,
         "then each object's camera-size flow is median-filtered over a square of this side, "
         "working pixels, over the object's own pixels there (0 = off)");
+  r.Add("flow_fill_radius_px", &o->flow_fill_radius_px,
+        "then an object pixel whose backward match does not lead back (forward-backward check) "
+        "takes the affine motion of its object's consistent pixels within this radius, working "
+        "pixels (0 = off; needs flow_object_matches)");
   r.Add("colour_from_other_views", &o->colour_from_other_views,
         "with several objects in the view, each object's colour model (E_a) also learns from "
         "its pixels in the other views at t (false: only an object the view's labels lack)");

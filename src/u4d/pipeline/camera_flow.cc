@@ -89,6 +89,64 @@ cv::Mat ObjectMatches(const cv::Mat& labels, const cv::Mat& labels_t1, const cv:
   return field;
 }
 
+// The forward-backward check's verdict per object pixel (camera_flow.h).
+enum Verdict : uint8_t { kNotJudged = 0, kConsistent = 1, kInconsistent = 2 };
+
+// Sundaram, Brox and Keutzer's Eq. 5: the backward flow leads back.
+bool LeadsBack(const cv::Vec2f& forward, const cv::Vec2f& backward) {
+  const cv::Vec2f sum = forward + backward;
+  return sum.dot(sum) <= 0.01f * (forward.dot(forward) + backward.dot(backward)) + 0.5f;
+}
+
+cv::Mat JudgeObjectFlow(const cv::Mat& labels, const cv::Mat& labels_t1, const cv::Mat& flow,
+                        const cv::Mat& backward) {
+  cv::Mat verdict(labels.size(), CV_8U, cv::Scalar(kNotJudged));
+  tbb::parallel_for(0, labels.rows, [&](int y) {
+    for (int x = 0; x < labels.cols; ++x) {
+      const uint16_t id = labels.at<uint16_t>(y, x);
+      if (id == 0) continue;
+      const cv::Vec2f& f = flow.at<cv::Vec2f>(y, x);
+      const cv::Point q(cvRound(x + f[0]), cvRound(y + f[1]));
+      if (q.x < 0 || q.y < 0 || q.x >= labels.cols || q.y >= labels.rows) continue;
+      if (labels_t1.at<uint16_t>(q) != id) continue;
+      verdict.at<uint8_t>(y, x) =
+          LeadsBack(f, backward.at<cv::Vec2f>(q)) ? kConsistent : kInconsistent;
+    }
+  });
+  return verdict;
+}
+
+// Fewest consistent pixels an affine fill is fitted to.
+constexpr int kMinFillSupport = 20;
+
+// The affine motion at p = (x, y) fitted to the consistent pixels of object
+// `id` around it (camera_flow.h); false where too few are near.
+bool AffineFill(const cv::Mat& labels, const cv::Mat& verdict, const cv::Mat& flow, int x, int y,
+                int radius_px, cv::Vec2f* motion) {
+  const uint16_t id = labels.at<uint16_t>(y, x);
+  for (int r = radius_px; r <= 8 * radius_px; r *= 2) {
+    cv::Matx33d normal = cv::Matx33d::zeros();
+    cv::Vec3d rhs_x, rhs_y;
+    int n = 0;
+    for (int v = std::max(0, y - r); v <= std::min(labels.rows - 1, y + r); v += 2)
+      for (int u = std::max(0, x - r); u <= std::min(labels.cols - 1, x + r); u += 2) {
+        if (labels.at<uint16_t>(v, u) != id || verdict.at<uint8_t>(v, u) != kConsistent) continue;
+        const cv::Vec3d row(1, u - x, v - y);
+        const cv::Vec2f& m = flow.at<cv::Vec2f>(v, u);
+        normal += row * row.t();
+        rhs_x += row * m[0];
+        rhs_y += row * m[1];
+        ++n;
+      }
+    if (n < kMinFillSupport) continue;
+    // Centred on p, the fit's value at p is its constant term.
+    *motion = cv::Vec2f(static_cast<float>(normal.solve(rhs_x, cv::DECOMP_SVD)[0]),
+                        static_cast<float>(normal.solve(rhs_y, cv::DECOMP_SVD)[0]));
+    return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 void RefineFlowAtCameraSize(const cv::Mat& labels, const cv::Mat& image_t, const cv::Mat& image_t1,
@@ -133,6 +191,41 @@ void RefineFlowAtCameraSize(const cv::Mat& labels, const cv::Mat& image_t, const
     consider(matches, own & objects);
   }
   best.copyTo(solved, objects);
+}
+
+void FillInconsistentObjectFlow(const cv::Mat& labels, const cv::Mat& labels_t1,
+                                const cv::Mat& image_t, const cv::Mat& image_t1, int radius_px,
+                                cv::Mat* flow) {
+  U4D_CHECK(radius_px >= 1, "FillInconsistentObjectFlow: the radius must be >= 1, got {}",
+            radius_px);
+  if (labels_t1.empty()) return;
+  U4D_CHECK(labels.type() == CV_16U && labels_t1.type() == CV_16U && image_t.type() == CV_8UC3 &&
+                image_t1.type() == CV_8UC3 && flow->type() == CV_32FC2,
+            "FillInconsistentObjectFlow: expected CV_16U labels, BGR images and a CV_32FC2 flow");
+  U4D_CHECK(labels.size() == labels_t1.size() && labels.size() == image_t.size() &&
+                labels.size() == image_t1.size() && labels.size() == flow->size(),
+            "FillInconsistentObjectFlow: the labels ({}x{}), images and flow must have one size",
+            labels.cols, labels.rows);
+  if (cv::countNonZero(labels) == 0 || cv::countNonZero(labels_t1) == 0) return;
+  if (labels.cols < kMinMatchSide && labels.rows < kMinMatchSide) return;
+  const cv::Rect whole(0, 0, labels.cols, labels.rows);
+  cv::Mat own;
+  const cv::Mat backward = ObjectMatches(labels_t1, labels, image_t1, image_t, whole,
+                                         cv::Mat::zeros(flow->size(), CV_32FC2), &own);
+  const cv::Mat verdict = JudgeObjectFlow(labels, labels_t1, *flow, backward);
+  const cv::Mat judged = flow->clone();
+  tbb::parallel_for(0, labels.rows, [&](int y) {
+    for (int x = 0; x < labels.cols; ++x) {
+      cv::Vec2f fill;
+      if (verdict.at<uint8_t>(y, x) != kInconsistent ||
+          !AffineFill(labels, verdict, judged, x, y, radius_px, &fill))
+        continue;
+      const cv::Point q(cvRound(x + fill[0]), cvRound(y + fill[1]));
+      const bool on_object = q.x >= 0 && q.y >= 0 && q.x < labels.cols && q.y < labels.rows &&
+                             labels_t1.at<uint16_t>(q) == labels.at<uint16_t>(y, x);
+      if (on_object) flow->at<cv::Vec2f>(y, x) = fill;
+    }
+  });
 }
 
 void MedianFilterObjectFlow(const cv::Mat& labels, int window_px, cv::Mat* flow) {

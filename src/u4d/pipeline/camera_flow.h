@@ -56,6 +56,33 @@ void RefineFlowAtCameraSize(const cv::Mat& labels, const cv::Mat& image_t, const
 // mismatch or a window that is not odd and positive.
 void MedianFilterObjectFlow(const cv::Mat& labels, int window_px, cv::Mat* flow);
 
+// The forward-backward check of the objects' flow (Sundaram, Brox and
+// Keutzer, "Dense point trajectories by GPU-accelerated large displacement
+// optical flow", ECCV 2010), the paper's "areas with low confidence" of E_r
+// (Sec. 2.1) made explicit: a pixel p of object k whose match q = p + f(p)
+// (rounded) lies on k's labels at t+1 is inconsistent when the backward flow
+// b there does not lead back,
+//   |f(p) + b(q)|^2 > 0.01 (|f(p)|^2 + |b(q)|^2) + 0.5   (their Eq. 5),
+// b being each object's own match from t+1 to t (the rest of the images
+// greyed out, as above). Such a pixel's surface is occluded at t+1 or its
+// match went wrong in a weak texture, where brightness cannot tell; it takes
+// the motion of its object's consistent pixels around it instead: the
+// affine motion fitted by least squares to those within `radius_px` (the
+// radius doubled, up to 8 times, until at least 20 of them, sampled every
+// other pixel, are found; else the pixel keeps its flow), where that motion
+// takes it onto its object's labels at t+1. A fill that lands on another
+// label or off the image is not taken: the fit around a pixel next to an
+// occluder is the least sure, and the labels at t+1 say where the object is
+// seen. A pixel whose match leaves the image or lands on another label at
+// t+1 is not judged (the labels' own error there is the size of the check)
+// and does not serve as support. Background pixels keep their flow, and all pixels do
+// where `labels_t1` is empty (no objects known at t+1). CV_16U labels of
+// one size as the BGR 8-bit images and the CV_32FC2 flow; throws
+// u4d::Error on a mismatch or a radius below 1.
+void FillInconsistentObjectFlow(const cv::Mat& labels, const cv::Mat& labels_t1,
+                                const cv::Mat& image_t, const cv::Mat& image_t1, int radius_px,
+                                cv::Mat* flow);
+
 // Pixels by which an object's labels are grown before the rest of the image
 // is greyed out for its own match: a detector's or the solve's boundary errs
 // by about this much, and the object's silhouette edge stays in the picture.

@@ -247,7 +247,8 @@ void FrameMaps(const RunContext& c, SolvedFrame& s) {
 
 // Writes the maps of frame s (FrameMaps) and lets them go. With
 // frame_setup.flow_at_camera_size the objects' flow first takes its
-// camera-size step (camera_flow.h); `labels_t1` are the objects at t+1 per
+// camera-size steps (camera_flow.h: the pick, the median, the
+// forward-backward fill); `labels_t1` are the objects at t+1 per
 // view, at camera size, for its object matches (frame_setup.
 // flow_object_matches; empty = none). The objects' camera-size flow,
 // area-averaged to the working resolution, also replaces s.flow on their
@@ -263,6 +264,9 @@ void WriteFrameMaps(const RunContext& c, SolvedFrame& s, const std::vector<cv::M
                              objects ? labels_t1[v] : cv::Mat());
       if (const int median = c.o.frame_setup.flow_median_px; median > 0)
         MedianFilterObjectFlow(maps.labels, OddSide(median / s.scale), &maps.flow);
+      if (const int fill = c.o.frame_setup.flow_fill_radius_px; objects && fill > 0)
+        FillInconsistentObjectFlow(maps.labels, labels_t1[v], s.full_images[v], s.full_images_t1[v],
+                                   std::max(1, cvRound(fill / s.scale)), &maps.flow);
       cv::Mat working;
       cv::resize(maps.flow, working, s.flow[v].size(), 0, 0, cv::INTER_AREA);
       working *= s.scale;
