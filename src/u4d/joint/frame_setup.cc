@@ -132,6 +132,9 @@ void FrameSetupOptions::Check() const {
             flow_median_px);
   U4D_CHECK(flow_fill_radius_px >= 0, "FrameSetupOptions.flow_fill_radius_px must be >= 0, got {}",
             flow_fill_radius_px);
+  U4D_CHECK(flow_variational_iterations >= 0,
+            "FrameSetupOptions.flow_variational_iterations must be >= 0, got {}",
+            flow_variational_iterations);
   pose.Check();
   hull.Check();
 }

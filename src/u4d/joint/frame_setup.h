@@ -111,6 +111,11 @@ struct FrameSetupOptions {
   // its object's consistent pixels within this radius in working pixels
   // (camera_flow.h FillInconsistentObjectFlow); 0 = off.
   int flow_fill_radius_px = 6;
+  // Last, with the objects at t+1, each object's camera-size flow is moved
+  // to the sub-pixel optimum of brightness and gradient constancy with a
+  // smoothness term, on its own pair of images (camera_flow.h
+  // RefineObjectFlowVariationally): this many fixed-point iterations; 0 = off.
+  int flow_variational_iterations = 20;
   // With several objects in the view, E_a's colour models of each also
   // learn from its pixels in the other views at t (frame_setup.cc
   // BorrowColourSamples): a view whose detector merged two people has mixed

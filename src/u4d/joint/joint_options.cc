@@ -33,6 +33,9 @@ void DeclareOptions(OptionRegistry& r, FrameSetupOptions* o) {
         "then an object pixel whose backward match does not lead back (forward-backward check) "
         "takes the affine motion of its object's consistent pixels within this radius, working "
         "pixels (0 = off; needs flow_object_matches)");
+  r.Add("flow_variational_iterations", &o->flow_variational_iterations,
+        "last, the variational refinement of each object's camera-size flow on its own pair of "
+        "images, fixed-point iterations (0 = off; needs flow_object_matches)");
   r.Add("colour_from_other_views", &o->colour_from_other_views,
         "with several objects in the view, each object's colour model (E_a) also learns from "
         "its pixels in the other views at t (false: only an object the view's labels lack)");

@@ -6,6 +6,7 @@
 
 #include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
 
 #include "u4d/baselines/dense_flow.h"
 #include "u4d/util/check.h"
@@ -53,40 +54,102 @@ cv::Mat OnlyObject(const cv::Mat& grey, const cv::Mat& keep) {
   return out;
 }
 
-// Each object's own dense match (see the header) at its pixels of the roi;
-// elsewhere `solved`. `own` (CV_8U, the roi's size) marks the pixels that
-// have one.
-cv::Mat ObjectMatches(const cv::Mat& labels, const cv::Mat& labels_t1, const cv::Mat& image_t,
-                      const cv::Mat& image_t1, const cv::Rect& roi, const cv::Mat& solved,
-                      cv::Mat* own) {
-  cv::Mat grey_t, grey_t1;
-  cv::cvtColor(image_t, grey_t, cv::COLOR_BGR2GRAY);
-  cv::cvtColor(image_t1, grey_t1, cv::COLOR_BGR2GRAY);
-  const cv::Mat grow = cv::getStructuringElement(
-      cv::MORPH_ELLIPSE, cv::Size(2 * kObjectMatchMarginPx + 1, 2 * kObjectMatchMarginPx + 1));
-  cv::Mat field = solved.clone();
-  *own = cv::Mat::zeros(roi.size(), CV_8U);
+// The ids of the objects in `labels`.
+std::set<int> ObjectIdsIn(const cv::Mat& labels) {
   std::set<int> ids;
   for (int y = 0; y < labels.rows; ++y)
     for (int x = 0; x < labels.cols; ++x)
       if (const int id = labels.at<uint16_t>(y, x)) ids.insert(id);
-  for (const int id : ids) {
-    cv::Mat at_t, at_t1;
-    cv::dilate(labels == id, at_t, grow);
-    cv::dilate(labels_t1 == id, at_t1, grow);
-    if (cv::countNonZero(at_t1) == 0) continue;
-    const cv::Mat both_frames = at_t | at_t1;
-    const cv::Rect crop =
-        ObjectBox(both_frames, cv::boundingRect(both_frames).width / 5 + kMinMatchSide);
-    const cv::Mat match = baselines::DenseFlow(baselines::DenseFlowMethod::kDisFine,
-                                               OnlyObject(grey_t(crop), at_t(crop)),
-                                               OnlyObject(grey_t1(crop), at_t1(crop)));
-    const cv::Rect both = crop & roi;
+  return ids;
+}
+
+// Object `id`'s own pair of images (camera_flow.h): the crop around it at t
+// and t+1, and the grey images there with every pixel outside it set to
+// mid-grey.
+struct ObjectPair {
+  cv::Rect crop;
+  cv::Mat grey_t, grey_t1;
+};
+
+// False where `id` is absent from `labels_t1`.
+bool OwnPair(const cv::Mat& labels, const cv::Mat& labels_t1, const cv::Mat& grey_t,
+             const cv::Mat& grey_t1, int id, ObjectPair* pair) {
+  const cv::Mat grow = cv::getStructuringElement(
+      cv::MORPH_ELLIPSE, cv::Size(2 * kObjectMatchMarginPx + 1, 2 * kObjectMatchMarginPx + 1));
+  cv::Mat at_t, at_t1;
+  cv::dilate(labels == id, at_t, grow);
+  cv::dilate(labels_t1 == id, at_t1, grow);
+  if (cv::countNonZero(at_t1) == 0) return false;
+  const cv::Mat both_frames = at_t | at_t1;
+  pair->crop = ObjectBox(both_frames, cv::boundingRect(both_frames).width / 5 + kMinMatchSide);
+  pair->grey_t = OnlyObject(grey_t(pair->crop), at_t(pair->crop));
+  pair->grey_t1 = OnlyObject(grey_t1(pair->crop), at_t1(pair->crop));
+  return true;
+}
+
+cv::Mat Grey(const cv::Mat& bgr) {
+  cv::Mat grey;
+  cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+  return grey;
+}
+
+// Each object's own dense match (see the header) at its pixels of the roi;
+// elsewhere `solved`. `own` (CV_8U, the roi's size) marks the pixels that
+// have one.
+cv::Mat ObjectMatches(const cv::Mat& labels, const cv::Mat& labels_t1, const cv::Mat& grey_t,
+                      const cv::Mat& grey_t1, const cv::Rect& roi, const cv::Mat& solved,
+                      cv::Mat* own) {
+  cv::Mat field = solved.clone();
+  *own = cv::Mat::zeros(roi.size(), CV_8U);
+  for (const int id : ObjectIdsIn(labels)) {
+    ObjectPair pair;
+    if (!OwnPair(labels, labels_t1, grey_t, grey_t1, id, &pair)) continue;
+    const cv::Mat match =
+        baselines::DenseFlow(baselines::DenseFlowMethod::kDisFine, pair.grey_t, pair.grey_t1);
+    const cv::Rect both = pair.crop & roi;
     const cv::Mat mine = labels(both) == id;
-    match(both - crop.tl()).copyTo(field(both - roi.tl()), mine);
+    match(both - pair.crop.tl()).copyTo(field(both - roi.tl()), mine);
     (*own)(both - roi.tl()).setTo(255, mine);
   }
   return field;
+}
+
+// `flow` where `mine` (CV_8U) is set; elsewhere the flow of the nearest
+// pixel of `mine`, which must not be empty.
+cv::Mat ExtendedFlow(const cv::Mat& mine, const cv::Mat& flow) {
+  cv::Mat distance, nearest;
+  cv::distanceTransform(mine == 0, distance, nearest, cv::DIST_L2, cv::DIST_MASK_5,
+                        cv::DIST_LABEL_PIXEL);
+  std::vector<cv::Vec2f> by_label(mine.total() + 1);
+  for (int y = 0; y < mine.rows; ++y)
+    for (int x = 0; x < mine.cols; ++x)
+      if (mine.at<uint8_t>(y, x)) by_label[nearest.at<int>(y, x)] = flow.at<cv::Vec2f>(y, x);
+  cv::Mat extended(flow.size(), CV_32FC2);
+  for (int y = 0; y < mine.rows; ++y)
+    for (int x = 0; x < mine.cols; ++x)
+      extended.at<cv::Vec2f>(y, x) = by_label[nearest.at<int>(y, x)];
+  return extended;
+}
+
+// Throws unless the labels at t and t+1 (CV_16U), the BGR 8-bit images and
+// the CV_32FC2 flow have one size; `what` names the caller.
+void CheckTwoFrames(const char* what, const cv::Mat& labels, const cv::Mat& labels_t1,
+                    const cv::Mat& image_t, const cv::Mat& image_t1, const cv::Mat& flow) {
+  U4D_CHECK(labels.type() == CV_16U && labels_t1.type() == CV_16U && image_t.type() == CV_8UC3 &&
+                image_t1.type() == CV_8UC3 && flow.type() == CV_32FC2,
+            "{}: expected CV_16U labels, BGR images and a CV_32FC2 flow", what);
+  U4D_CHECK(labels.size() == labels_t1.size() && labels.size() == image_t.size() &&
+                labels.size() == image_t1.size() && labels.size() == flow.size(),
+            "{}: the labels ({}x{}), images and flow must have one size", what, labels.cols,
+            labels.rows);
+}
+
+// Whether pixel (x, y) moved by `motion` (rounded) lands inside the image on
+// object `id`'s labels at t+1.
+bool LandsOn(const cv::Mat& labels_t1, int x, int y, const cv::Vec2f& motion, uint16_t id) {
+  const cv::Point q(cvRound(x + motion[0]), cvRound(y + motion[1]));
+  return q.x >= 0 && q.y >= 0 && q.x < labels_t1.cols && q.y < labels_t1.rows &&
+         labels_t1.at<uint16_t>(q) == id;
 }
 
 // The forward-backward check's verdict per object pixel (camera_flow.h).
@@ -106,9 +169,8 @@ cv::Mat JudgeObjectFlow(const cv::Mat& labels, const cv::Mat& labels_t1, const c
       const uint16_t id = labels.at<uint16_t>(y, x);
       if (id == 0) continue;
       const cv::Vec2f& f = flow.at<cv::Vec2f>(y, x);
+      if (!LandsOn(labels_t1, x, y, f, id)) continue;
       const cv::Point q(cvRound(x + f[0]), cvRound(y + f[1]));
-      if (q.x < 0 || q.y < 0 || q.x >= labels.cols || q.y >= labels.rows) continue;
-      if (labels_t1.at<uint16_t>(q) != id) continue;
       verdict.at<uint8_t>(y, x) =
           LeadsBack(f, backward.at<cv::Vec2f>(q)) ? kConsistent : kInconsistent;
     }
@@ -187,7 +249,8 @@ void RefineFlowAtCameraSize(const cv::Mat& labels, const cv::Mat& image_t, const
   consider(dense, objects);
   if (!labels_t1.empty()) {
     cv::Mat own;
-    const cv::Mat matches = ObjectMatches(labels, labels_t1, image_t, image_t1, roi, solved, &own);
+    const cv::Mat matches =
+        ObjectMatches(labels, labels_t1, Grey(image_t), Grey(image_t1), roi, solved, &own);
     consider(matches, own & objects);
   }
   best.copyTo(solved, objects);
@@ -199,18 +262,12 @@ void FillInconsistentObjectFlow(const cv::Mat& labels, const cv::Mat& labels_t1,
   U4D_CHECK(radius_px >= 1, "FillInconsistentObjectFlow: the radius must be >= 1, got {}",
             radius_px);
   if (labels_t1.empty()) return;
-  U4D_CHECK(labels.type() == CV_16U && labels_t1.type() == CV_16U && image_t.type() == CV_8UC3 &&
-                image_t1.type() == CV_8UC3 && flow->type() == CV_32FC2,
-            "FillInconsistentObjectFlow: expected CV_16U labels, BGR images and a CV_32FC2 flow");
-  U4D_CHECK(labels.size() == labels_t1.size() && labels.size() == image_t.size() &&
-                labels.size() == image_t1.size() && labels.size() == flow->size(),
-            "FillInconsistentObjectFlow: the labels ({}x{}), images and flow must have one size",
-            labels.cols, labels.rows);
+  CheckTwoFrames("FillInconsistentObjectFlow", labels, labels_t1, image_t, image_t1, *flow);
   if (cv::countNonZero(labels) == 0 || cv::countNonZero(labels_t1) == 0) return;
   if (labels.cols < kMinMatchSide && labels.rows < kMinMatchSide) return;
   const cv::Rect whole(0, 0, labels.cols, labels.rows);
   cv::Mat own;
-  const cv::Mat backward = ObjectMatches(labels_t1, labels, image_t1, image_t, whole,
+  const cv::Mat backward = ObjectMatches(labels_t1, labels, Grey(image_t1), Grey(image_t), whole,
                                          cv::Mat::zeros(flow->size(), CV_32FC2), &own);
   const cv::Mat verdict = JudgeObjectFlow(labels, labels_t1, *flow, backward);
   const cv::Mat judged = flow->clone();
@@ -220,12 +277,30 @@ void FillInconsistentObjectFlow(const cv::Mat& labels, const cv::Mat& labels_t1,
       if (verdict.at<uint8_t>(y, x) != kInconsistent ||
           !AffineFill(labels, verdict, judged, x, y, radius_px, &fill))
         continue;
-      const cv::Point q(cvRound(x + fill[0]), cvRound(y + fill[1]));
-      const bool on_object = q.x >= 0 && q.y >= 0 && q.x < labels.cols && q.y < labels.rows &&
-                             labels_t1.at<uint16_t>(q) == labels.at<uint16_t>(y, x);
-      if (on_object) flow->at<cv::Vec2f>(y, x) = fill;
+      if (LandsOn(labels_t1, x, y, fill, labels.at<uint16_t>(y, x)))
+        flow->at<cv::Vec2f>(y, x) = fill;
     }
   });
+}
+
+void RefineObjectFlowVariationally(const cv::Mat& labels, const cv::Mat& labels_t1,
+                                   const cv::Mat& image_t, const cv::Mat& image_t1, int iterations,
+                                   cv::Mat* flow) {
+  U4D_CHECK(iterations >= 1, "RefineObjectFlowVariationally: the iterations must be >= 1, got {}",
+            iterations);
+  if (labels_t1.empty()) return;
+  CheckTwoFrames("RefineObjectFlowVariationally", labels, labels_t1, image_t, image_t1, *flow);
+  const cv::Mat grey_t = Grey(image_t), grey_t1 = Grey(image_t1);
+  for (const int id : ObjectIdsIn(labels)) {
+    ObjectPair pair;
+    if (!OwnPair(labels, labels_t1, grey_t, grey_t1, id, &pair)) continue;
+    const cv::Mat mine = labels(pair.crop) == id;
+    cv::Mat field = ExtendedFlow(mine, (*flow)(pair.crop));
+    const cv::Ptr<cv::VariationalRefinement> refine = cv::VariationalRefinement::create();
+    refine->setFixedPointIterations(iterations);
+    refine->calc(pair.grey_t, pair.grey_t1, field);
+    field.copyTo((*flow)(pair.crop), mine);
+  }
 }
 
 void MedianFilterObjectFlow(const cv::Mat& labels, int window_px, cv::Mat* flow) {

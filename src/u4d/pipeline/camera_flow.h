@@ -83,6 +83,27 @@ void FillInconsistentObjectFlow(const cv::Mat& labels, const cv::Mat& labels_t1,
                                 const cv::Mat& image_t, const cv::Mat& image_t1, int radius_px,
                                 cv::Mat* flow);
 
+// The variational refinement of the objects' flow (Brox et al.'s
+// continuous energy as OpenCV's cv::VariationalRefinement computes it, the
+// last step of DIS, Kroeger et al., ECCV 2016): brightness and gradient
+// constancy with a smoothness term, minimised by `iterations` fixed-point
+// iterations at the camera's size from the flow given. The picks above
+// choose between whole-pixel-accurate candidates and the median and the
+// fill copy their neighbours' motion, so the field is piecewise right but
+// not at the sub-pixel optimum of its data; the refinement moves each pixel
+// to it, with the smoothness that keeps a weak texture from wandering.
+// It runs on each object's own pair of images (the rest greyed out, as for
+// its own match above), so the motion of the background or of another
+// object does not pull its edge: in the crop, the pixels outside the object
+// start from the flow of their nearest object pixel, and only the object's
+// pixels take the result. An object absent from `labels_t1`, and all of
+// them where `labels_t1` is empty, keep their flow; so does the background.
+// CV_16U labels of one size as the BGR 8-bit images and the CV_32FC2 flow;
+// throws u4d::Error on a mismatch or `iterations` below 1.
+void RefineObjectFlowVariationally(const cv::Mat& labels, const cv::Mat& labels_t1,
+                                   const cv::Mat& image_t, const cv::Mat& image_t1, int iterations,
+                                   cv::Mat* flow);
+
 // Pixels by which an object's labels are grown before the rest of the image
 // is greyed out for its own match: a detector's or the solve's boundary errs
 // by about this much, and the object's silhouette edge stays in the picture.

@@ -248,7 +248,7 @@ void FrameMaps(const RunContext& c, SolvedFrame& s) {
 // Writes the maps of frame s (FrameMaps) and lets them go. With
 // frame_setup.flow_at_camera_size the objects' flow first takes its
 // camera-size steps (camera_flow.h: the pick, the median, the
-// forward-backward fill); `labels_t1` are the objects at t+1 per
+// forward-backward fill, the variational refinement); `labels_t1` are the objects at t+1 per
 // view, at camera size, for its object matches (frame_setup.
 // flow_object_matches; empty = none). The objects' camera-size flow,
 // area-averaged to the working resolution, also replaces s.flow on their
@@ -267,6 +267,10 @@ void WriteFrameMaps(const RunContext& c, SolvedFrame& s, const std::vector<cv::M
       if (const int fill = c.o.frame_setup.flow_fill_radius_px; objects && fill > 0)
         FillInconsistentObjectFlow(maps.labels, labels_t1[v], s.full_images[v], s.full_images_t1[v],
                                    std::max(1, cvRound(fill / s.scale)), &maps.flow);
+      if (const int iterations = c.o.frame_setup.flow_variational_iterations;
+          objects && iterations > 0)
+        RefineObjectFlowVariationally(maps.labels, labels_t1[v], s.full_images[v],
+                                      s.full_images_t1[v], iterations, &maps.flow);
       cv::Mat working;
       cv::resize(maps.flow, working, s.flow[v].size(), 0, 0, cv::INTER_AREA);
       working *= s.scale;
