@@ -18,8 +18,8 @@
 #                   of benches on a shared 2-core machine, plus the build); the
 #                   default runs the sizes docs/*.md quote (about an hour there).
 #   --only LIST     run only these sections (comma separated ids: seg, depth,
-#                   flow, fusion, pose, sparse, tracks, keyframes, mrf, synth,
-#                   speed; seg/depth/flow share one joint_bench run).
+#                   flow, camera_flow, fusion, pose, sparse, tracks, keyframes,
+#                   mrf, synth, speed; seg/depth/flow share one joint_bench run).
 #                   Real-data sections: middlebury, sintel.
 #                   The realistic world's initial masks against a real
 #                   detector's ranges, on held-out seeds: detector.
@@ -75,7 +75,7 @@ while [[ $# -gt 0 ]]; do
 done
 
 BENCHES=(sparse_bench tracks_bench shelf_pose_bench keyframes_bench depth_cost_bench
-  flow_cost_bench joint_bench fusion_bench mrf_bench synth_bench synth_render_bench u4d
+  flow_cost_bench camera_flow_bench joint_bench fusion_bench mrf_bench synth_bench synth_render_bench u4d
   middlebury_bench sintel_bench kernels_bench joint_phases_bench)
 if [[ $DO_BUILD == 1 ]]; then
   if [[ ! -f $BUILD/build.ninja ]]; then

@@ -34,6 +34,7 @@ def _bench_steps(c, w, b):
         yield tables("depth_cost", "depth_cost_bench", a["depth"])
         yield tables("recon", "joint_bench", a["recon"])
     for section, step, bench in [("flow", "flow_cost", "flow_cost_bench"),
+                                 ("camera_flow", "camera_flow", "camera_flow_bench"),
                                  ("middlebury", "middlebury", "middlebury_bench"),
                                  ("sintel", "sintel", "sintel_bench"),
                                  ("fusion", "fusion", "fusion_bench"),

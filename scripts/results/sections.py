@@ -42,7 +42,8 @@ def flow(w, text):
 
 
 # Sections that are their prose and the outputs of their steps verbatim.
-VERBATIM = [("middlebury", ["middlebury"]), ("sintel", ["sintel"]), ("fusion", ["fusion"]),
+VERBATIM = [("camera_flow", ["camera_flow"]), ("middlebury", ["middlebury"]),
+            ("sintel", ["sintel"]), ("fusion", ["fusion"]),
             ("pose", ["shelf"]), ("sparse", ["sparse"]), ("tracks", ["tracks"]),
             ("keyframes", ["keyframes"]), ("mrf", ["mrf"]),
             ("kernels", ["kernels", "joint_phases"]), ("synth", ["synth_render", "synth"])]
