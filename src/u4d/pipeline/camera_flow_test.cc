@@ -120,7 +120,9 @@ TEST_F(CameraFlowTest, TheSameFrameTwiceKeepsNoMotion) {
 }
 
 // An object of one pixel in a corner, and an image too small for the dense
-// match: no error, and the tiny image keeps its flow.
+// match: no error, the background keeps its flow and the tiny image keeps
+// it everywhere; the variational refinement runs on both without error and
+// leaves their background alone.
 TEST(CameraFlow, TinyObjectsAndImagesAreHandled) {
   for (const cv::Size size : {cv::Size(64, 36), cv::Size(10, 8)}) {
     cv::Mat image_t(size, CV_8UC3), image_t1(size, CV_8UC3);
@@ -137,6 +139,9 @@ TEST(CameraFlow, TinyObjectsAndImagesAreHandled) {
     if (size.width < 16) {
       EXPECT_EQ(cv::norm(flow, before, cv::NORM_INF), 0);
     }
+    ASSERT_NO_THROW(RefineObjectFlowVariationally(labels, labels, image_t, image_t1, 20, &flow))
+        << size;
+    EXPECT_EQ(cv::norm(flow, before, cv::NORM_INF, background), 0) << size;
   }
 }
 
