@@ -4,7 +4,9 @@
 // world and hurts the other is seen in the same run.
 #pragma once
 
+#include <cstdio>
 #include <string>
+#include <vector>
 
 #include "u4d/synth/generate.h"
 #include "u4d/util/data_dir.h"
@@ -19,6 +21,20 @@ using ::u4d::DataDir;
 inline bool WorldAvailable(const std::string& preset) {
   if (preset.rfind("realistic", 0) == 0) return fs::is_directory(DataDir() / "captured_meshes");
   return true;
+}
+
+// The worlds of `presets` that can be synthesised here, in order; prints
+// "<preset>: skipped (no shared data at ...)" for each of the others.
+inline std::vector<std::string> AvailableWorlds(const std::vector<std::string>& presets) {
+  std::vector<std::string> available;
+  for (const std::string& preset : presets) {
+    if (WorldAvailable(preset))
+      available.push_back(preset);
+    else
+      std::printf("%s: skipped (no shared data at %s)\n", preset.c_str(),
+                  DataDir().string().c_str());
+  }
+  return available;
 }
 
 // The preset at a bench's size, without GT meshes (set write_meshes for them).

@@ -132,13 +132,9 @@ int Main(int argc, char** argv) {
   bench::Table& rows = tables.Start(
       "Camera-size flow steps and the baselines",
       {"world", "step / method", "people EPE px", "> 10 px %", "<= 1 px %", "s (8 views)"});
-  for (const std::string world : {"handshake", "realistic", "realistic-moving"}) {
-    if (bench::WorldAvailable(world))
-      RunWorld(world, &rows);
-    else
-      std::printf("%s: skipped (no shared data at %s)\n", world.c_str(),
-                  bench::DataDir().string().c_str());
-  }
+  for (const std::string& world :
+       bench::AvailableWorlds({"handshake", "realistic", "realistic-moving"}))
+    RunWorld(world, &rows);
   tables.Write();
   return 0;
 }

@@ -109,13 +109,8 @@ int Main(int argc, char** argv) {
       "E_f cost volumes", {"world", "window", "cross_view", "labels", "ms", "WTA EPE px"});
   bench::Table& baseline_rows =
       tables.Record("Flow baselines", {"world", "method", "EPE px", "ms", "E_f window 3 / this"});
-  for (const std::string world : {"handshake", "realistic"}) {
-    if (bench::WorldAvailable(world))
-      RunWorld(world, &volumes, &baseline_rows);
-    else
-      std::printf("%s: skipped (no shared data at %s)\n", world.c_str(),
-                  bench::DataDir().string().c_str());
-  }
+  for (const std::string& world : bench::AvailableWorlds({"handshake", "realistic"}))
+    RunWorld(world, &volumes, &baseline_rows);
   tables.Write();
   return 0;
 }

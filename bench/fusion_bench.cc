@@ -54,12 +54,7 @@ int main(int argc, char** argv) {
   bench::Table& tracked = tables.Record(
       "TrackVertices",
       {"world", "views x size", "person", "s per step", "vertices", "median drift mm per frame"});
-  for (const std::string world : {"handshake", "realistic"}) {
-    if (!bench::WorldAvailable(world)) {
-      std::printf("%s: skipped (no shared data at %s)\n", world.c_str(),
-                  bench::DataDir().string().c_str());
-      continue;
-    }
+  for (const std::string& world : bench::AvailableWorlds({"handshake", "realistic"})) {
     std::printf("== %s\n", world.c_str());
     for (const auto& [w, h, frames] : {std::tuple{480, 270, 11}, std::tuple{960, 540, 2}}) {
       synth::SynthOptions o = bench::World(world, 8, w, h, frames);
