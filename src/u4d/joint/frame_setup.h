@@ -112,7 +112,7 @@ struct FrameSetupOptions {
   // (camera_flow.h FillInconsistentObjectFlow); 0 = off.
   int flow_fill_radius_px = 6;
   // Last, with the objects at t+1, each object's camera-size flow is moved
-  // to the sub-pixel optimum of brightness and gradient constancy with a
+  // towards the sub-pixel optimum of brightness and gradient constancy with a
   // smoothness term, on its own pair of images (camera_flow.h
   // RefineObjectFlowVariationally): this many fixed-point iterations; 0 = off.
   int flow_variational_iterations = 20;

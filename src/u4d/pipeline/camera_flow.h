@@ -90,8 +90,10 @@ void FillInconsistentObjectFlow(const cv::Mat& labels, const cv::Mat& labels_t1,
 // iterations at the camera's size from the flow given. The picks above
 // choose between whole-pixel-accurate candidates and the median and the
 // fill copy their neighbours' motion, so the field is piecewise right but
-// not at the sub-pixel optimum of its data; the refinement moves each pixel
-// to it, with the smoothness that keeps a weak texture from wandering.
+// not at the sub-pixel optimum of its data; the refinement moves the field
+// towards it, with the smoothness that keeps a weak texture from wandering
+// (where the texture is weak, only part of the way: its data term is weak
+// there too).
 // It runs on each object's own pair of images (the rest greyed out, as for
 // its own match above), so the motion of the background or of another
 // object does not pull its edge: in the crop, the pixels outside the object
