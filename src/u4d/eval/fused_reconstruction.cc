@@ -7,6 +7,7 @@
 #include <open3d/geometry/TriangleMesh.h>
 
 #include "u4d/eval/mesh_metrics.h"
+#include "u4d/io/label_ids.h"
 #include "u4d/util/check.h"
 
 namespace u4d::eval {
@@ -34,9 +35,7 @@ FusedReconstruction EvaluateFusedDepth(
     clean[v].forEach<float>([](float& z, const int*) {
       if (!std::isfinite(z) || z < 0) z = 0;
     });
-    for (int y = 0; y < size.height; ++y)
-      for (int x = 0; x < size.width; ++x)
-        if (const int id = instance_ids[v].at<uint16_t>(y, x); id > 0) ids.insert(id);
+    ids.merge(IdsIn(instance_ids[v]));
   }
   FusedReconstruction r;
   std::vector<FusedMesh> fused;

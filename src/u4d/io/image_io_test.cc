@@ -1,9 +1,11 @@
 #include "u4d/io/image_io.h"
 
 #include <fstream>
+#include <set>
 
 #include <gtest/gtest.h>
 
+#include "u4d/io/label_ids.h"
 #include "u4d/util/check.h"
 #include "u4d/util/data_dir.h"
 #include "u4d/util/testing.h"
@@ -18,6 +20,19 @@ fs::path TempDir() {
 
 void ExpectErrorMentions(const std::function<void()>& f, const std::string& needle) {
   test_util::ExpectErrorMentions(f, {needle});
+}
+
+// The ids of a label image: each nonzero value once, ascending, the largest
+// 16-bit id included; none in an empty or all-background image.
+TEST(LabelIds, ListTheNonzeroIdsOnce) {
+  cv::Mat labels = cv::Mat::zeros(4, 5, CV_16U);
+  labels.at<uint16_t>(0, 4) = 7;
+  labels.at<uint16_t>(3, 0) = 2;
+  labels.at<uint16_t>(2, 2) = 7;
+  labels.at<uint16_t>(1, 1) = 65535;
+  EXPECT_EQ(IdsIn(labels), (std::set<int>{2, 7, 65535}));
+  EXPECT_TRUE(IdsIn(cv::Mat::zeros(3, 3, CV_16U)).empty());
+  EXPECT_TRUE(IdsIn(cv::Mat()).empty());
 }
 
 TEST(ImageIo, FloRoundTripAndRealSintel) {

@@ -3,6 +3,7 @@
 #include <set>
 
 #include "u4d/io/image_io.h"
+#include "u4d/io/label_ids.h"
 #include "u4d/util/check.h"
 #include "u4d/util/json_checked.h"
 
@@ -32,13 +33,7 @@ InstanceMask ReadInstanceMask(const fs::path& png, const fs::path& json) {
     U4D_CHECK(listed.insert(info.id).second, "{}: instance id {} listed twice", ctx, info.id);
     mask.instances.push_back(info);
   }
-  std::set<int> present;
-  for (int y = 0; y < mask.ids.rows; ++y) {
-    const uint16_t* row = mask.ids.ptr<uint16_t>(y);
-    for (int x = 0; x < mask.ids.cols; ++x)
-      if (row[x] != 0) present.insert(row[x]);
-  }
-  for (int id : present)
+  for (int id : IdsIn(mask.ids))
     U4D_CHECK(listed.count(id), "{}: id {} appears in {} but is not listed", ctx, id,
               png.filename().string());
   return mask;

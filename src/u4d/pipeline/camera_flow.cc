@@ -9,6 +9,7 @@
 #include <opencv2/video/tracking.hpp>
 
 #include "u4d/baselines/dense_flow.h"
+#include "u4d/io/label_ids.h"
 #include "u4d/util/check.h"
 
 namespace u4d {
@@ -54,15 +55,6 @@ cv::Mat OnlyObject(const cv::Mat& grey, const cv::Mat& keep) {
   return out;
 }
 
-// The ids of the objects in `labels`.
-std::set<int> ObjectIdsIn(const cv::Mat& labels) {
-  std::set<int> ids;
-  for (int y = 0; y < labels.rows; ++y)
-    for (int x = 0; x < labels.cols; ++x)
-      if (const int id = labels.at<uint16_t>(y, x)) ids.insert(id);
-  return ids;
-}
-
 // Object `id`'s own pair of images (camera_flow.h): the crop around it at t
 // and t+1, and the grey images there with every pixel outside it set to
 // mid-grey.
@@ -101,7 +93,7 @@ cv::Mat ObjectMatches(const cv::Mat& labels, const cv::Mat& labels_t1, const cv:
                       cv::Mat* own) {
   cv::Mat field = solved.clone();
   *own = cv::Mat::zeros(roi.size(), CV_8U);
-  for (const int id : ObjectIdsIn(labels)) {
+  for (const int id : IdsIn(labels)) {
     ObjectPair pair;
     if (!OwnPair(labels, labels_t1, grey_t, grey_t1, id, &pair)) continue;
     const cv::Mat match =
@@ -291,7 +283,7 @@ void RefineObjectFlowVariationally(const cv::Mat& labels, const cv::Mat& labels_
   if (labels_t1.empty()) return;
   CheckTwoFrames("RefineObjectFlowVariationally", labels, labels_t1, image_t, image_t1, *flow);
   const cv::Mat grey_t = Grey(image_t), grey_t1 = Grey(image_t1);
-  for (const int id : ObjectIdsIn(labels)) {
+  for (const int id : IdsIn(labels)) {
     ObjectPair pair;
     if (!OwnPair(labels, labels_t1, grey_t, grey_t1, id, &pair)) continue;
     const cv::Mat mine = labels(pair.crop) == id;

@@ -25,6 +25,7 @@
 #include "u4d/io/frame_reader.h"
 #include "u4d/io/image_io.h"
 #include "u4d/io/input_fingerprint.h"
+#include "u4d/io/label_ids.h"
 #include "u4d/io/layout.h"
 #include "u4d/io/scene_index.h"
 #include "u4d/io/visualize.h"
@@ -290,10 +291,7 @@ std::vector<cv::Mat> MapLabels(const SolvedFrame& s) {
 
 std::set<int> ObjectIds(const SolvedFrame& s) {
   std::set<int> ids;
-  for (const cv::Mat& l : s.labels)
-    for (int y = 0; y < l.rows; ++y)
-      for (int x = 0; x < l.cols; ++x)
-        if (const int id = l.at<uint16_t>(y, x)) ids.insert(id);
+  for (const cv::Mat& l : s.labels) ids.merge(IdsIn(l));
   return ids;
 }
 

@@ -10,6 +10,7 @@
 
 #include "u4d/io/image_io.h"
 #include "u4d/io/instance_mask.h"
+#include "u4d/io/label_ids.h"
 #include "u4d/io/layout.h"
 #include "u4d/io/visualize.h"
 #include "u4d/pipeline/object_classes.h"
@@ -193,11 +194,7 @@ void WriteViewMaps(const fs::path& out, const std::string& view, int frame, cons
                    const std::map<int, std::string>& classes) {
   InstanceMask mask;
   mask.ids = maps.labels;
-  std::set<int> ids;
-  for (int y = 0; y < maps.labels.rows; ++y)
-    for (int x = 0; x < maps.labels.cols; ++x)
-      if (const int id = maps.labels.at<uint16_t>(y, x)) ids.insert(id);
-  for (int id : ids) mask.instances.push_back({id, ObjectClass(classes, id), 1.0});
+  for (int id : IdsIn(maps.labels)) mask.instances.push_back({id, ObjectClass(classes, id), 1.0});
   WriteInstanceMask(out / layout::SceneInstances(view, frame),
                     out / layout::SceneInstancesInfo(view, frame), mask);
   WritePfm(out / layout::SceneDepth(view, frame), maps.depth);
