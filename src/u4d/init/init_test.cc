@@ -682,8 +682,8 @@ TEST(InitTest, GroundOccupancySplitsTouchingPeopleByTheirInstances) {
 TEST(InitTest, GroundOccupancyDoesNotCutAPersonTheDetectorMergedInHalfTheViews) {
   const fs::path data = DataDir() / "captured_meshes";
   U4D_SKIP_WITHOUT_SHARED_DATA(data);
-  const fs::path dir = synth::WriteCaptureToTempDir(
-      "init_merged_half", synth::SmallRealisticOptions(data, 960, 540, 2));
+  const fs::path dir = test_util::RemovedAtExit(synth::WriteCaptureToTempDir(
+      "init_merged_half", synth::SmallRealisticOptions(data, 960, 540, 2)));
   const Capture capture = ReadCapture(dir);
   std::vector<Camera> cameras;
   std::vector<cv::Mat> given;

@@ -31,7 +31,8 @@ class CameraFlowTest : public ::testing::Test {
   static void SetUpTestSuite() {
     synth::SynthOptions o = synth::SmallHandshakeOptions(2, 480, 270, 2);
     o.start_frame = 128;
-    const Capture c = ReadCapture(synth::WriteCaptureToTempDir("camera_flow_test", o));
+    const Capture c =
+        ReadCapture(test_util::RemovedAtExit(synth::WriteCaptureToTempDir("camera_flow_test", o)));
     frame_ = new Frame{ReadColorImage(c.ImagePath(0, 0)),
                        ReadColorImage(c.ImagePath(0, 1)),
                        ReadLabelImage(c.root / layout::GtInstances(c.views[0].name, 0)),
@@ -164,8 +165,8 @@ struct FlowErrors {
 FlowErrors CompareOnTheRealisticWorld(
     const fs::path& data, const std::string& name,
     const std::function<std::vector<cv::Mat>(const RealisticView&)>& flows_of) {
-  const Capture c = ReadCapture(
-      synth::WriteCaptureToTempDir(name, synth::SmallRealisticOptions(data, 960, 540, 2)));
+  const Capture c = ReadCapture(test_util::RemovedAtExit(
+      synth::WriteCaptureToTempDir(name, synth::SmallRealisticOptions(data, 960, 540, 2))));
   FlowErrors errors;
   for (int v = 0; v < c.NumViews(); ++v) {
     const std::string& view = c.views[v].name;
