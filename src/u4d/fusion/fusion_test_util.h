@@ -13,6 +13,7 @@
 #include "u4d/io/image_io.h"
 #include "u4d/io/layout.h"
 #include "u4d/synth/generate.h"
+#include "u4d/util/testing.h"
 
 namespace u4d::fusion_test {
 
@@ -21,11 +22,12 @@ struct FrameMaps {
   std::vector<cv::Mat> depths, ids, images, flows;
 };
 
+// The capture's folder is removed when the test process exits (test_util::RemovedAtExit).
 inline fs::path WriteSmallCapture(const std::string& name) {
   synth::SynthOptions o = synth::SmallHandshakeOptions(8, 320, 180, 3);
   o.write_meshes = true;
   o.start_frame = 10;
-  return synth::WriteCaptureToTempDir(name, o);
+  return test_util::RemovedAtExit(synth::WriteCaptureToTempDir(name, o));
 }
 
 // Smooth zero-mean noise of standard deviation `sigma` (Gaussian noise
