@@ -42,6 +42,7 @@ void FusionOptions::Check() const {
   U4D_CHECK(min_component_fraction >= 0 && min_component_fraction < 1,
             "FusionOptions.min_component_fraction must be in [0, 1), found {}",
             min_component_fraction);
+  silhouette.Check();
 }
 
 bool FusedMesh::Empty() const { return !mesh || mesh->triangles_.empty(); }
@@ -239,6 +240,9 @@ FusedMesh FuseObject(const std::vector<Camera>& cameras, const std::vector<cv::M
         remove[i] = true;
     }
   }
+  const std::vector<bool> outside = OutsideSilhouettes(mesh->vertices_, cameras, depths,
+                                                       instance_ids, object_id, options.silhouette);
+  for (size_t i = 0; i < remove.size(); ++i) remove[i] = remove[i] || outside[i];
   mesh->RemoveVerticesByMask(remove);
 
   // Drop small connected components.

@@ -29,10 +29,11 @@
 //  4. Open3D screened Poisson (CreateFromPointCloudPoisson, octree depth
 //     poisson_depth); colours are interpolated from the points.
 //  5. Trimming: vertices whose Poisson density is below the
-//     density_quantile quantile, and vertices farther from the nearest point
-//     than trim_distance_factor x the median point spacing, are removed;
-//     then connected components with fewer than min_component_fraction of
-//     the triangles.
+//     density_quantile quantile, vertices farther from the nearest point
+//     than trim_distance_factor x the median point spacing (0 = off), and
+//     vertices the views see outside the object's silhouette
+//     (silhouette_trim.h) are removed; then connected components with fewer
+//     than min_component_fraction of the triangles.
 //
 // Output: a mesh in world coordinates (metres) with per-vertex colour (RGB in
 // [0,1]) and normals. Failure modes: size/type mismatches and bad options
@@ -46,6 +47,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "u4d/fusion/silhouette_trim.h"
 #include "u4d/geometry/camera.h"
 
 namespace open3d::geometry {
@@ -69,11 +71,15 @@ struct FusionOptions {
   // (docs/fusion.md, "Octree depth"): a speed setting
   // (`u4d run --poisson-depth 7`), not the default.
   int poisson_depth = 8;
-  double poisson_scale = 1.1;            // Poisson bounding-cube scale over the points
-  int poisson_threads = 1;               // Open3D Poisson threads (-1 = all; 1 is deterministic)
-  double density_quantile = 0.02;        // trim vertices below this density quantile
-  double trim_distance_factor = 3.0;     // trim vertices farther than this x point spacing
+  double poisson_scale = 1.1;  // Poisson bounding-cube scale over the points
+  int poisson_threads = 1;     // Open3D Poisson threads (-1 = all; 1 is deterministic)
+  // Trimming where the depth is merely sparse (low Poisson density, far from
+  // every point) tears holes into the surface that the silhouettes keep, so
+  // both are off by default; `silhouette` trims instead (docs/fusion.md).
+  double density_quantile = 0.0;      // trim vertices below this density quantile (0 = off)
+  double trim_distance_factor = 0.0;  // trim vertices farther than this x point spacing (0 = off)
   double min_component_fraction = 0.02;  // drop components with fewer triangles (share)
+  SilhouetteTrimOptions silhouette;      // trim what the views' masks say is not the object
 
   void Check() const;  // throws u4d::Error naming the bad field
 };

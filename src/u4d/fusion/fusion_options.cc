@@ -22,6 +22,12 @@ void DeclareOptions(OptionRegistry& r, FusionOptions* o) {
         "trim vertices farther than this x point spacing");
   r.Add("min_component_fraction", &o->min_component_fraction,
         "drop components with fewer triangles (share)");
+  r.Add("silhouette_min_views", &o->silhouette.min_views,
+        "trim vertices that this many views see outside the object's mask (0 = off)");
+  r.Add("silhouette_margin_px", &o->silhouette.margin_px,
+        "pixels; a vertex this close to the object's mask counts as inside it");
+  r.Add("silhouette_occlusion_tolerance", &o->silhouette.occlusion_tolerance,
+        "metres; another object nearer by more hides the vertex from that view");
 }
 
 void DeclareOptions(OptionRegistry& r, TrackOptions* o) {

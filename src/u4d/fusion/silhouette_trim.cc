@@ -1,0 +1,70 @@
+#include "u4d/fusion/silhouette_trim.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
+
+#include "u4d/util/check.h"
+
+namespace u4d {
+
+void SilhouetteTrimOptions::Check() const {
+  U4D_CHECK(min_views >= 0, "SilhouetteTrimOptions.min_views must be >= 0 (0 = off), found {}",
+            min_views);
+  U4D_CHECK(margin_px >= 0, "SilhouetteTrimOptions.margin_px must be >= 0, found {}", margin_px);
+  U4D_CHECK(occlusion_tolerance > 0,
+            "SilhouetteTrimOptions.occlusion_tolerance must be > 0, found {}", occlusion_tolerance);
+}
+
+namespace {
+
+// Distance (pixels) from every pixel to the nearest pixel of `object_id`;
+// empty when the view holds none of it.
+cv::Mat DistanceToObject(const cv::Mat& ids, int object_id) {
+  const cv::Mat not_object = ids != object_id;
+  if (cv::countNonZero(not_object) == static_cast<int>(ids.total())) return {};
+  cv::Mat distance;
+  cv::distanceTransform(not_object, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  return distance;
+}
+
+// Whether view `camera` sees `x` off the object: outside its silhouette by
+// more than the margin and not behind a nearer object.
+bool SeenOutside(const Eigen::Vector3d& x, const Camera& camera, const cv::Mat& distance,
+                 const cv::Mat& depth, const cv::Mat& ids, const SilhouetteTrimOptions& options) {
+  const double z = camera.Depth(x);
+  if (!(z > 0)) return false;
+  const Eigen::Vector2d p = camera.Project(x);
+  if (!camera.InImage(p)) return false;
+  const int col = std::clamp(static_cast<int>(std::lround(p.x())), 0, distance.cols - 1);
+  const int row = std::clamp(static_cast<int>(std::lround(p.y())), 0, distance.rows - 1);
+  if (distance.at<float>(row, col) <= options.margin_px) return false;
+  const float there = depth.empty() ? 0.f : depth.at<float>(row, col);
+  const bool hidden =
+      ids.at<uint16_t>(row, col) != 0 && there > 0 && there < z - options.occlusion_tolerance;
+  return !hidden;
+}
+
+}  // namespace
+
+std::vector<bool> OutsideSilhouettes(const std::vector<Eigen::Vector3d>& vertices,
+                                     const std::vector<Camera>& cameras,
+                                     const std::vector<cv::Mat>& depths,
+                                     const std::vector<cv::Mat>& instance_ids, int object_id,
+                                     const SilhouetteTrimOptions& options) {
+  std::vector<bool> outside(vertices.size(), false);
+  if (options.min_views <= 0) return outside;
+  std::vector<int> votes(vertices.size(), 0);
+  for (size_t v = 0; v < cameras.size(); ++v) {
+    const cv::Mat distance = DistanceToObject(instance_ids[v], object_id);
+    if (distance.empty()) continue;
+    for (size_t i = 0; i < vertices.size(); ++i)
+      votes[i] +=
+          SeenOutside(vertices[i], cameras[v], distance, depths[v], instance_ids[v], options);
+  }
+  for (size_t i = 0; i < vertices.size(); ++i) outside[i] = votes[i] >= options.min_views;
+  return outside;
+}
+
+}  // namespace u4d

@@ -1,0 +1,46 @@
+// Trimming a fused surface by the object's silhouettes (docs/fusion.md,
+// "Trimming"): the visual-hull test of the paper's fusion step ("combined
+// across views", Sec. 4), applied to the vertices of the Poisson surface.
+//
+// Screened Poisson returns a closed surface; where the depth maps hold no
+// point (a limb seen obliquely, the top of the head, a gap between the views'
+// depths) it bridges the gap. That bridge is right where it stays inside the
+// object's silhouettes and wrong (a balloon) where it leaves them. So a
+// vertex is removed when the views say it is not the object: projected into
+// a view, it falls farther than `margin_px` from every pixel of the object's
+// mask, and no nearer surface hides it there (the pixel's object, of another
+// id, is not in front of it by more than `occlusion_tolerance`). It must be
+// so in at least `min_views` views: one view's mask may miss a part.
+//
+// A view gives no evidence where the vertex projects outside the image or
+// behind the camera, or where the object has no pixel at all (a detector's
+// miss). Inputs as for FuseObject (depth_fusion.h): one camera, depth map
+// (CV_32FC1, 0 = unknown) and instance-id map (CV_16UC1) per view.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "u4d/geometry/camera.h"
+
+namespace u4d {
+
+struct SilhouetteTrimOptions {
+  int min_views = 2;                  // views that must see the vertex outside (0 = off)
+  double margin_px = 1.5;             // within this of the mask (pixels) counts as inside
+  double occlusion_tolerance = 0.04;  // metres; a nearer other object by more hides the vertex
+
+  void Check() const;  // throws u4d::Error naming the bad field
+};
+
+// For every vertex, whether at least `options.min_views` views see it outside
+// the silhouette of `object_id` (false for all when min_views is 0).
+std::vector<bool> OutsideSilhouettes(const std::vector<Eigen::Vector3d>& vertices,
+                                     const std::vector<Camera>& cameras,
+                                     const std::vector<cv::Mat>& depths,
+                                     const std::vector<cv::Mat>& instance_ids, int object_id,
+                                     const SilhouetteTrimOptions& options);
+
+}  // namespace u4d
