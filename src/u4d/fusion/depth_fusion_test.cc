@@ -137,20 +137,21 @@ TEST_F(DepthFusionTest, DepthAsNoisyAsTheSolvesKeepsTheSurfaceWhole) {
 }
 
 // Where no view's depth holds a part of the surface, Poisson bridges the
-// gap. Here every pixel of person 1 whose GT point lies within 10 cm of the
+// gap. Here every pixel of person 1 whose GT point lies within 8 cm of the
 // point view 0 sees at the centre of the person's mask (the torso) loses its
 // depth in all 8 views, as a textureless patch or a region the solve left
 // without depth does. The bridge lies inside every view's silhouette, so the
-// default trimming (by the silhouettes) keeps most of it; the earlier
-// default (Poisson density below the 2 % quantile and distance to the
-// nearest point above 3 spacings) tears the hole open again. Measured
-// against the GT surface in the hole (completeness at 2 cm) and over the
-// whole person (fused-to-GT distance: what the density and distance trims
-// removed elsewhere may cost at most 1 mm at this fixture's 320x180, where
-// the silhouettes' 1.5 px margin spans 2.5 cm).
+// default trimming (the silhouettes, and the distance to the nearest point
+// only beyond 6 spacings, 3.5 cm here) keeps much of it; the earlier default
+// (Poisson density below the 2 % quantile, distance above 3 spacings) tears
+// the hole open again. Measured against the GT surface in the hole
+// (completeness at 2 cm) and over the whole person (fused-to-GT distance:
+// what the density and distance trims removed elsewhere may cost at most
+// 1 mm at this fixture's 320x180, where the silhouettes' 1.5 px margin spans
+// 2.5 cm).
 TEST_F(DepthFusionTest, AHoleInEveryViewsDepthIsBridgedInsideTheSilhouettes) {
   const int kId = 1;
-  const double kRadius = 0.1;
+  const double kRadius = 0.08;
   const auto gt = eval::ReadMesh(dir_ / layout::GtMesh(kId, 0));
   const cv::Moments m = cv::moments(maps_.ids[0] == kId, true);
   const cv::Point c(static_cast<int>(m.m10 / m.m00), static_cast<int>(m.m01 / m.m00));
@@ -187,7 +188,7 @@ TEST_F(DepthFusionTest, AHoleInEveryViewsDepthIsBridgedInsideTheSilhouettes) {
       "hole of %.0f cm: completeness@2cm in the hole %.3f trimmed by density and distance, %.3f "
       "by the silhouettes; fused->gt %.1f / %.1f mm\n",
       kRadius * 100, hole_distance, hole_silhouette, acc_distance * 1e3, acc_silhouette * 1e3);
-  EXPECT_GE(hole_silhouette, 0.7);
+  EXPECT_GE(hole_silhouette, 0.5);
   EXPECT_LT(hole_distance, 0.3);
   EXPECT_LT(acc_silhouette, acc_distance + 0.001);
 }
