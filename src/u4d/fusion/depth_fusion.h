@@ -75,10 +75,10 @@ struct FusionOptions {
   int poisson_threads = 1;     // Open3D Poisson threads (-1 = all; 1 is deterministic)
   // Trimming where the depth is merely sparse (low Poisson density, a few
   // point spacings from every point) tears holes into the surface that the
-  // silhouettes keep: the density trim is off and the distance trim reaches
-  // only what lies far from every point, balloons where the views give no
-  // evidence (an object missing from most views' masks, few views), after
-  // `silhouette` (docs/fusion.md).
+  // silhouettes keep. So the density trim is off, and the distance trim only
+  // catches what lies far from every point: balloons the views give no
+  // evidence on (an object missing from most views' masks, few views), which
+  // `silhouette` cannot judge (docs/fusion.md).
   double density_quantile = 0.0;      // trim vertices below this density quantile (0 = off)
   double trim_distance_factor = 6.0;  // trim vertices farther than this x point spacing (0 = off)
   double min_component_fraction = 0.02;  // drop components with fewer triangles (share)

@@ -5,6 +5,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "u4d/fusion/depth_sampling.h"
 #include "u4d/util/check.h"
 
 namespace u4d {
@@ -18,6 +19,20 @@ void SilhouetteTrimOptions::Check() const {
 }
 
 namespace {
+
+void CheckInputs(const std::vector<Camera>& cameras, const std::vector<cv::Mat>& depths,
+                 const std::vector<cv::Mat>& ids) {
+  U4D_CHECK(depths.size() == cameras.size() && ids.size() == cameras.size(),
+            "OutsideSilhouettes: expected one depth and instance map per camera ({}), found {} "
+            "depths, {} instance maps",
+            cameras.size(), depths.size(), ids.size());
+  for (size_t v = 0; v < cameras.size(); ++v) {
+    const int w = cameras[v].width, h = cameras[v].height;
+    fusion_internal::CheckMap(ids[v], CV_16UC1, w, h, fmt::format("instance ids of view {}", v));
+    if (!depths[v].empty())
+      fusion_internal::CheckMap(depths[v], CV_32FC1, w, h, fmt::format("depth of view {}", v));
+  }
+}
 
 // Distance (pixels) from every pixel to the nearest pixel of `object_id`;
 // empty when the view holds none of it.
@@ -55,6 +70,7 @@ std::vector<bool> OutsideSilhouettes(const std::vector<Eigen::Vector3d>& vertice
                                      const SilhouetteTrimOptions& options) {
   std::vector<bool> outside(vertices.size(), false);
   if (options.min_views <= 0) return outside;
+  CheckInputs(cameras, depths, instance_ids);
   std::vector<int> votes(vertices.size(), 0);
   for (size_t v = 0; v < cameras.size(); ++v) {
     const cv::Mat distance = DistanceToObject(instance_ids[v], object_id);

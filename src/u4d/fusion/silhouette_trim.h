@@ -15,7 +15,9 @@
 // A view gives no evidence where the vertex projects outside the image or
 // behind the camera, or where the object has no pixel at all (a detector's
 // miss). Inputs as for FuseObject (depth_fusion.h): one camera, depth map
-// (CV_32FC1, 0 = unknown) and instance-id map (CV_16UC1) per view.
+// (CV_32FC1, 0 = unknown; empty: no occluder is known) and instance-id map
+// (CV_16UC1) per view, of the camera's size; other lengths, sizes or types
+// throw u4d::Error naming the view and map.
 #pragma once
 
 #include <vector>

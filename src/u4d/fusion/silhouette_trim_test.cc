@@ -88,6 +88,30 @@ TEST(SilhouetteTrim, AViewWithoutTheObjectOrNotSeeingTheVertexGivesNoEvidence) {
   EXPECT_FALSE(outside[1]);
 }
 
+TEST(SilhouetteTrim, BadInputsThrow) {
+  const View view = View().Square(1, 0, 30, 5.f);
+  const std::vector<Camera> cameras(2, CameraFiveMetresAway());
+  const std::vector<Eigen::Vector3d> vertex{Eigen::Vector3d::Zero()};
+  const SilhouetteTrimOptions o;
+  test_util::ExpectErrorMentions(
+      [&] {
+        OutsideSilhouettes(vertex, cameras, {view.depth}, {view.ids, view.ids}, 1, o);
+      },
+      {"one depth and instance map per camera"});
+  const cv::Mat small = cv::Mat::zeros(50, 50, CV_16UC1);
+  test_util::ExpectErrorMentions(
+      [&] {
+        OutsideSilhouettes(vertex, cameras, {view.depth, view.depth}, {view.ids, small}, 1, o);
+      },
+      {"instance ids of view 1", "100x100", "50x50"});
+  const cv::Mat bytes = cv::Mat::zeros(kSize, kSize, CV_8UC1);
+  test_util::ExpectErrorMentions(
+      [&] {
+        OutsideSilhouettes(vertex, cameras, {bytes, view.depth}, {view.ids, view.ids}, 1, o);
+      },
+      {"depth of view 0", "CV_32FC1"});
+}
+
 TEST(SilhouetteTrim, BadOptionsThrow) {
   SilhouetteTrimOptions o;
   o.min_views = -1;
