@@ -1,7 +1,6 @@
 #include "u4d/fusion/silhouette_trim.h"
 
-#include <algorithm>
-#include <cmath>
+#include <optional>
 
 #include <opencv2/imgproc.hpp>
 
@@ -48,16 +47,11 @@ cv::Mat DistanceToObject(const cv::Mat& ids, int object_id) {
 // more than the margin and not behind a nearer object.
 bool SeenOutside(const Eigen::Vector3d& x, const Camera& camera, const cv::Mat& distance,
                  const cv::Mat& depth, const cv::Mat& ids, const SilhouetteTrimOptions& options) {
-  const double z = camera.Depth(x);
-  if (!(z > 0)) return false;
-  const Eigen::Vector2d p = camera.Project(x);
-  if (!camera.InImage(p)) return false;
-  const int col = std::clamp(static_cast<int>(std::lround(p.x())), 0, distance.cols - 1);
-  const int row = std::clamp(static_cast<int>(std::lround(p.y())), 0, distance.rows - 1);
-  if (distance.at<float>(row, col) <= options.margin_px) return false;
-  const float there = depth.empty() ? 0.f : depth.at<float>(row, col);
-  const bool hidden =
-      ids.at<uint16_t>(row, col) != 0 && there > 0 && there < z - options.occlusion_tolerance;
+  const std::optional<Eigen::Vector2i> q = NearestPixel(camera, x);
+  if (!q || distance.at<float>(q->y(), q->x()) <= options.margin_px) return false;
+  const float there = depth.empty() ? 0.f : depth.at<float>(q->y(), q->x());
+  const bool hidden = ids.at<uint16_t>(q->y(), q->x()) != 0 && there > 0 &&
+                      there < camera.Depth(x) - options.occlusion_tolerance;
   return !hidden;
 }
 

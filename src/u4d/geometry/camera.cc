@@ -92,6 +92,15 @@ Eigen::Matrix<double, 3, 4> Camera::ProjectionMatrix() const {
   return K * cam_from_world.ToMatrix();
 }
 
+std::optional<Eigen::Vector2i> NearestPixel(const Camera& camera,
+                                            const Eigen::Vector3d& point_in_world) {
+  const Eigen::Vector2d p = camera.Project(point_in_world);
+  if (!p.allFinite() || !camera.InImage(p)) return std::nullopt;
+  // lround(-0.5) is -1: the clamp keeps the border's half-pixel in the image.
+  return Eigen::Vector2i(std::clamp(static_cast<int>(std::lround(p.x())), 0, camera.width - 1),
+                         std::clamp(static_cast<int>(std::lround(p.y())), 0, camera.height - 1));
+}
+
 Camera ScaledCamera(const Camera& camera, double scale) {
   U4D_CHECK(std::isfinite(scale) && scale > 0, "ScaledCamera: scale must be positive, got {}",
             scale);

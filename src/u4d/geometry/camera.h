@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 
 #include <Eigen/Core>
@@ -49,6 +50,15 @@ struct Camera {
            pixel.y() < height - 0.5;
   }
 };
+
+// The pixel (column, row) that `point_in_world` projects into: the nearest
+// pixel centre, when the point is in front of the camera (Project is finite)
+// and projects inside the image (InImage); std::nullopt otherwise. A
+// projection on the image's outer half-pixel border rounds into the image.
+// This is the one test of "does this view see the point, and where" behind
+// the views' votes on 3D points (visual hulls, silhouette trims, occupancy).
+std::optional<Eigen::Vector2i> NearestPixel(const Camera& camera,
+                                            const Eigen::Vector3d& point_in_world);
 
 // The same camera for an image resized by `scale` (> 0): size rounded to the
 // nearest pixel, K scaled about the pixel-centre convention, i.e.

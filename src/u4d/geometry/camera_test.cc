@@ -101,5 +101,30 @@ TEST(Camera, ScaledCameraFollowsThePixelCentreConvention) {
   EXPECT_THROW(ScaledCamera(camera, 0.0), Error);
 }
 
+TEST(Camera, NearestPixelIsThePixelAPointProjectsInto) {
+  const Camera cam = MakeCamera(0.3, /*distorted=*/true);
+  // A point seen at a pixel centre, and just off it, gives that pixel.
+  const Eigen::Vector3d at_centre = cam.Unproject({123, 45}, 2.5);
+  for (const Eigen::Vector3d& point : {at_centre, cam.Unproject({123.4, 44.6}, 2.5)}) {
+    const std::optional<Eigen::Vector2i> pixel = NearestPixel(cam, point);
+    ASSERT_TRUE(pixel.has_value());
+    EXPECT_EQ(*pixel, Eigen::Vector2i(123, 45));
+  }
+  // The outer half-pixel border belongs to the border pixels.
+  for (const Eigen::Vector2d& border :
+       {Eigen::Vector2d(-0.45, -0.45), Eigen::Vector2d(cam.width - 0.55, cam.height - 0.55)}) {
+    const std::optional<Eigen::Vector2i> pixel = NearestPixel(cam, cam.Unproject(border, 2.0));
+    ASSERT_TRUE(pixel.has_value()) << border.transpose();
+    EXPECT_EQ(*pixel, Eigen::Vector2i(border.x() < 0 ? 0 : cam.width - 1,
+                                      border.y() < 0 ? 0 : cam.height - 1));
+  }
+  // Outside the image, or behind the camera: not seen.
+  EXPECT_FALSE(NearestPixel(cam, cam.Unproject({cam.width - 0.45, 10}, 2.0)).has_value());
+  EXPECT_FALSE(NearestPixel(cam, cam.Unproject({-0.6, 10}, 2.0)).has_value());
+  const Eigen::Vector3d behind = 2 * cam.Center() - at_centre;
+  EXPECT_LT(cam.Depth(behind), 0);
+  EXPECT_FALSE(NearestPixel(cam, behind).has_value());
+}
+
 }  // namespace
 }  // namespace u4d

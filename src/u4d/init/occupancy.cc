@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <tuple>
 
 #include <tbb/parallel_for.h>
@@ -106,11 +107,10 @@ std::vector<uint8_t> OccupiedVoxels(const OccupancyMap& m, const ReducedMasks& r
         const Eigen::Vector3d x = centre_of(i + 0.5, j + 0.5, k + 0.5);
         int inside = 0, fg = 0;
         for (int v = 0; v < nv; ++v) {
-          const Eigen::Vector2d p = small[v].Project(x);
-          if (!std::isfinite(p.x()) || !small[v].InImage(p)) continue;
+          const std::optional<Eigen::Vector2i> p = NearestPixel(small[v], x);
+          if (!p) continue;
           ++inside;
-          if (reduced.target[v].at<uint8_t>(static_cast<int>(std::lround(p.y())),
-                                            static_cast<int>(std::lround(p.x())))) {
+          if (reduced.target[v].at<uint8_t>(p->y(), p->x())) {
             ++fg;
           } else if (inside - fg > (1 - options.cross_view.min_view_fraction) * nv + 1e-9) {
             break;  // too many misses already: at most nv views can see it

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 
 #include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
@@ -27,13 +28,10 @@ struct Voter {
 enum class Vote { kOutside, kOnObject, kOnOther, kOnBackground };
 
 Vote VoteOf(const Voter& u, const Eigen::Vector3d& X) {
-  if (!(u.camera->Depth(X) > 0)) return Vote::kOutside;
-  const Eigen::Vector2d q = u.camera->Project(X);
-  if (!q.allFinite() || !u.camera->InImage(q)) return Vote::kOutside;
-  const int x = std::clamp(static_cast<int>(std::lround(q.x())), 0, u.camera->width - 1);
-  const int y = std::clamp(static_cast<int>(std::lround(q.y())), 0, u.camera->height - 1);
-  if (u.object.at<uint8_t>(y, x)) return Vote::kOnObject;
-  return u.labels->at<uint16_t>(y, x) != 0 ? Vote::kOnOther : Vote::kOnBackground;
+  const std::optional<Eigen::Vector2i> q = NearestPixel(*u.camera, X);
+  if (!q) return Vote::kOutside;
+  if (u.object.at<uint8_t>(q->y(), q->x())) return Vote::kOnObject;
+  return u.labels->at<uint16_t>(q->y(), q->x()) != 0 ? Vote::kOnOther : Vote::kOnBackground;
 }
 
 // True when X is on the object's leave-one-out hull (header contract).
