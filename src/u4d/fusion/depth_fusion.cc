@@ -8,6 +8,7 @@
 #include <open3d/geometry/TriangleMesh.h>
 
 #include "u4d/fusion/depth_sampling.h"
+#include "u4d/fusion/hole_fill.h"
 #include "u4d/util/check.h"
 
 namespace u4d {
@@ -39,6 +40,8 @@ void FusionOptions::Check() const {
   U4D_CHECK(trim_distance_factor >= 0,
             "FusionOptions.trim_distance_factor must be >= 0 (0 = off), found {}",
             trim_distance_factor);
+  U4D_CHECK(fill_hole_radius >= 0,
+            "FusionOptions.fill_hole_radius must be >= 0 (0 = off), found {}", fill_hole_radius);
   U4D_CHECK(min_component_fraction >= 0 && min_component_fraction < 1,
             "FusionOptions.min_component_fraction must be in [0, 1), found {}",
             min_component_fraction);
@@ -254,6 +257,7 @@ FusedMesh FuseObject(const std::vector<Camera>& cameras, const std::vector<cv::M
     mesh->RemoveTrianglesByMask(drop);
     mesh->RemoveUnreferencedVertices();
   }
+  out.holes_filled = FillHoles(options.fill_hole_radius, mesh.get());
   mesh->ComputeVertexNormals();
   out.vertices_trimmed = static_cast<int>(n_before - mesh->vertices_.size());
   out.mesh = mesh;

@@ -34,6 +34,8 @@
 //     vertices the views see outside the object's silhouette
 //     (silhouette_trim.h) are removed; then connected components with fewer
 //     than min_component_fraction of the triangles.
+//  6. Holes the trims left, up to fill_hole_radius, are closed by smooth
+//     membranes over their borders (hole_fill.h).
 //
 // Output: a mesh in world coordinates (metres) with per-vertex colour (RGB in
 // [0,1]) and normals. Failure modes: size/type mismatches and bad options
@@ -83,6 +85,11 @@ struct FusionOptions {
   double trim_distance_factor = 6.0;  // trim vertices farther than this x point spacing (0 = off)
   double min_component_fraction = 0.02;  // drop components with fewer triangles (share)
   SilhouetteTrimOptions silhouette;      // trim what the views' masks say is not the object
+  // The trims leave holes; those up to a body part's cross-section (a head
+  // about 0.1 m, a torso about 0.15 m in radius) are closed (hole_fill.h).
+  // A wider border runs between parts (the inner sides of two legs whose
+  // bridge was trimmed): a membrane there would put the bridge back.
+  double fill_hole_radius = 0.15;  // metres; close holes whose border is this close to its centre
 
   void Check() const;  // throws u4d::Error naming the bad field
 };
@@ -95,6 +102,7 @@ struct FusedMesh {
   double mean_confidence = 0;  // over the points used
   double point_spacing = 0;    // median nearest-neighbour distance of the points, metres
   int vertices_trimmed = 0;    // removed by density, distance and small components
+  int holes_filled = 0;        // trimmed holes closed (hole_fill.h)
   bool Empty() const;          // no mesh or no triangle
 };
 

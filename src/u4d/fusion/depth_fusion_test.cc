@@ -143,8 +143,8 @@ TEST_F(DepthFusionTest, DepthAsNoisyAsTheSolvesKeepsTheSurfaceWhole) {
 // without depth does. The bridge lies inside every view's silhouette, so the
 // default trimming (the silhouettes, and the distance to the nearest point
 // only beyond 6 spacings, 3.5 cm here) keeps much of it; the earlier default
-// (Poisson density below the 2 % quantile, distance above 3 spacings) tears
-// the hole open again. Measured against the GT surface in the hole
+// (Poisson density below the 2 % quantile, distance above 3 spacings, no
+// hole filling) tears the hole open again. Measured against the GT surface in the hole
 // (completeness at 2 cm) and over the whole person (fused-to-GT distance:
 // what the density and distance trims removed elsewhere may cost at most
 // 1 mm at this fixture's 320x180, where the silhouettes' 1.5 px margin spans
@@ -182,6 +182,7 @@ TEST_F(DepthFusionTest, AHoleInEveryViewsDepthIsBridgedInsideTheSilhouettes) {
   earlier.silhouette.min_views = 0;
   earlier.density_quantile = 0.02;
   earlier.trim_distance_factor = 3;
+  earlier.fill_hole_radius = 0;
   const auto [hole_distance, acc_distance] = measure(earlier);
   const auto [hole_silhouette, acc_silhouette] = measure(FusionOptions{});
   std::printf(
@@ -191,6 +192,36 @@ TEST_F(DepthFusionTest, AHoleInEveryViewsDepthIsBridgedInsideTheSilhouettes) {
   EXPECT_GE(hole_silhouette, 0.5);
   EXPECT_LT(hole_distance, 0.3);
   EXPECT_LT(acc_silhouette, acc_distance + 0.001);
+}
+
+// The trims leave holes where they cut (the top of the head, the soles, the
+// ragged edge of a trimmed bridge); the fill closes those up to a body
+// part's size. From the true depth, the filled meshes have far fewer border
+// edges, and they come no farther from the GT surface (the patches lie
+// where the surface was cut away) and cover at least as much of it.
+TEST_F(DepthFusionTest, TheTrimmedHolesAreClosed) {
+  FusionOptions open;
+  open.fill_hole_radius = 0;
+  for (const int id : {1, 2}) {
+    const auto gt = eval::ReadMesh(dir_ / layout::GtMesh(id, 0));
+    const FusedMesh opened =
+        FuseObject(maps_.cameras, maps_.depths, maps_.ids, maps_.images, id, open);
+    const FusedMesh closed =
+        FuseObject(maps_.cameras, maps_.depths, maps_.ids, maps_.images, id, {});
+    const size_t borders_open = opened.mesh->GetNonManifoldEdges(false).size();
+    const size_t borders_closed = closed.mesh->GetNonManifoldEdges(false).size();
+    const eval::ChamferResult before = eval::MeshChamfer(*opened.mesh, gt, {});
+    const eval::ChamferResult after = eval::MeshChamfer(*closed.mesh, gt, {});
+    std::printf(
+        "person %d: %d holes closed; border and non-manifold edges %zu -> %zu; fused->gt %.2f -> "
+        "%.2f mm, completeness %.3f -> %.3f\n",
+        id, closed.holes_filled, borders_open, borders_closed, before.pred_to_gt * 1e3,
+        after.pred_to_gt * 1e3, before.completeness, after.completeness);
+    EXPECT_GT(closed.holes_filled, 0);
+    EXPECT_LT(borders_closed, borders_open / 2);
+    EXPECT_LT(after.pred_to_gt, before.pred_to_gt + 0.0005);
+    EXPECT_GE(after.completeness, before.completeness);
+  }
 }
 
 TEST_F(DepthFusionTest, LabelledPlyRoundTrip) {
