@@ -257,9 +257,9 @@ FusedMesh FuseObject(const std::vector<Camera>& cameras, const std::vector<cv::M
     mesh->RemoveTrianglesByMask(drop);
     mesh->RemoveUnreferencedVertices();
   }
+  out.vertices_trimmed = static_cast<int>(n_before - mesh->vertices_.size());
   out.holes_filled = FillHoles(options.fill_hole_radius, mesh.get());
   mesh->ComputeVertexNormals();
-  out.vertices_trimmed = static_cast<int>(n_before - mesh->vertices_.size());
   out.mesh = mesh;
   return out;
 }
