@@ -5,23 +5,21 @@
 // the distance trim of depth_fusion.h) cut away what the views say is not
 // the object, and leave a hole with a ragged border where they cut: a person
 // without the top of the head, soles or the parts of the back no view saw in
-// depth. A studio wants a closed surface (the paper's Sec. 4 meshes, issue
-// 22 item 5). Each hole is closed by a membrane spanned over its border:
-// rings of new vertices between the border and its centroid, relaxed by
-// umbrella (Laplacian) smoothing with the border fixed, so that the patch is
-// the smooth surface the border bounds (flat for a flat border) and meets
-// the mesh without a seam. The patch is made of the border's own vertices
-// and new ones only; nothing of the mesh moves.
+// depth. A studio wants a closed surface. Each hole is closed by a membrane spanned over its
+// border: rings of new vertices between the border and its centroid, relaxed by umbrella
+// (Laplacian) smoothing with the border fixed, so that the patch is the smooth surface the border
+// bounds (flat for a flat border) and meets the mesh without a seam. The patch is made of the
+// border's own vertices and new ones only; nothing of the mesh moves.
 //
 // A hole is a loop of boundary edges (edges of exactly one triangle); where
 // two holes touch at a vertex (a ragged trim leaves many such), the border is
 // split there into simple loops, each closed on its own. Holes whose border
-// lies farther than `max_radius` from its centroid stay open: a hole that
-// large is not a trimmed patch but a part no view supports, and a membrane
-// across it would be invented surface. The patch's triangles are oriented as their
-// neighbours across the border; its vertices take the border's colours,
-// blended towards their mean. Normals are not updated (the caller computes
-// them).
+// lies farther than `max_radius` from its centroid stay open: a border that
+// wide runs between parts of a body (the inner sides of two legs whose
+// Poisson bridge was trimmed), and a membrane across it would put the bridge
+// back. The patch's triangles are oriented as their neighbours across the
+// border; its vertices take the border's colours, blended towards their
+// mean. Normals are not updated (the caller computes them).
 #pragma once
 
 namespace open3d::geometry {
