@@ -52,6 +52,7 @@ std::vector<std::vector<int>> BorderLoops(const std::vector<std::vector<int>>& n
   std::vector<size_t> taken(next.size(), 0);  // successors walked, per vertex
   std::vector<int> on_path(next.size(), -1);  // position on the current path
   for (size_t start = 0; start < next.size(); ++start) {
+    if (taken[start] == next[start].size()) continue;  // no border edge left here
     std::vector<int> path = {static_cast<int>(start)};
     on_path[start] = 0;
     int at = static_cast<int>(start);
@@ -82,14 +83,12 @@ struct Patch {
 // New vertices interpolated from the border towards its centroid (and their
 // colours towards the border's mean colour), in `rings` - 1 rings and a
 // centre.
-Patch MakePatch(const std::vector<int>& border, int rings, open3d::geometry::TriangleMesh* mesh) {
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero(), colour = Eigen::Vector3d::Zero();
+Patch MakePatch(const std::vector<int>& border, const Eigen::Vector3d& centre, int rings,
+                open3d::geometry::TriangleMesh* mesh) {
+  Eigen::Vector3d colour = Eigen::Vector3d::Zero();
   const bool coloured = mesh->HasVertexColors();
-  for (const int v : border) {
-    centre += mesh->vertices_[v];
-    if (coloured) colour += mesh->vertex_colors_[v];
-  }
-  centre /= border.size();
+  if (coloured)
+    for (const int v : border) colour += mesh->vertex_colors_[v];
   colour /= border.size();
   auto add = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& c) {
     mesh->vertices_.push_back(p);
@@ -153,20 +152,24 @@ void Relax(const Patch& patch, int first_new, open3d::geometry::TriangleMesh* me
   }
 }
 
-// The largest distance of the border's vertices from their centroid, and
+// A border loop's centroid, the largest distance of its vertices from it and
 // their mean edge length.
-std::pair<double, double> RadiusAndEdge(const std::vector<int>& border,
-                                        const open3d::geometry::TriangleMesh& mesh) {
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  for (const int v : border) centre += mesh.vertices_[v];
-  centre /= border.size();
-  double radius = 0, edges = 0;
+struct BorderShape {
+  Eigen::Vector3d centre;
+  double radius = 0, edge = 0;
+};
+
+BorderShape ShapeOf(const std::vector<int>& border, const open3d::geometry::TriangleMesh& mesh) {
+  BorderShape shape{Eigen::Vector3d::Zero()};
+  for (const int v : border) shape.centre += mesh.vertices_[v];
+  shape.centre /= border.size();
   for (size_t i = 0; i < border.size(); ++i) {
     const Eigen::Vector3d& p = mesh.vertices_[border[i]];
-    radius = std::max(radius, (p - centre).norm());
-    edges += (mesh.vertices_[border[(i + 1) % border.size()]] - p).norm();
+    shape.radius = std::max(shape.radius, (p - shape.centre).norm());
+    shape.edge += (mesh.vertices_[border[(i + 1) % border.size()]] - p).norm();
   }
-  return {radius, edges / border.size()};
+  shape.edge /= border.size();
+  return shape;
 }
 
 }  // namespace
@@ -178,13 +181,13 @@ int FillHoles(double max_radius, open3d::geometry::TriangleMesh* mesh) {
   if (max_radius == 0 || mesh->triangles_.empty()) return 0;
   int closed = 0;
   for (const std::vector<int>& border : BorderLoops(BorderSuccessors(*mesh))) {
-    const auto [radius, edge] = RadiusAndEdge(border, *mesh);
-    if (radius > max_radius) continue;
-    const double spacing = std::max(kRingSpacingInEdges * edge, 1e-12);
-    const int rings = std::clamp(static_cast<int>(std::lround(radius / spacing)), 1,
+    const BorderShape shape = ShapeOf(border, *mesh);
+    if (shape.radius > max_radius) continue;
+    const double spacing = std::max(kRingSpacingInEdges * shape.edge, 1e-12);
+    const int rings = std::clamp(static_cast<int>(std::lround(shape.radius / spacing)), 1,
                                  static_cast<int>(border.size()));
     const int first_new = static_cast<int>(mesh->vertices_.size());
-    Patch patch = MakePatch(border, rings, mesh);
+    Patch patch = MakePatch(border, shape.centre, rings, mesh);
     Triangulate(&patch);
     Relax(patch, first_new, mesh);
     mesh->triangles_.insert(mesh->triangles_.end(), patch.triangles.begin(), patch.triangles.end());
