@@ -43,16 +43,18 @@ cv::Mat DistanceToObject(const cv::Mat& ids, int object_id) {
   return distance;
 }
 
-// Whether view `camera` sees `x` off the object: outside its silhouette by
-// more than the margin and not behind a nearer object.
-bool SeenOutside(const Eigen::Vector3d& x, const Camera& camera, const cv::Mat& distance,
-                 const cv::Mat& depth, const cv::Mat& ids, const SilhouetteTrimOptions& options) {
+// What view `camera` says of `x`: +1 off the object (outside its silhouette
+// by more than the margin and not behind a nearer object), -1 on it (within
+// the margin), 0 nothing (not in the image, or hidden).
+int Vote(const Eigen::Vector3d& x, const Camera& camera, const cv::Mat& distance,
+         const cv::Mat& depth, const cv::Mat& ids, const SilhouetteTrimOptions& options) {
   const std::optional<Eigen::Vector2i> q = NearestPixel(camera, x);
-  if (!q || distance.at<float>(q->y(), q->x()) <= options.margin_px) return false;
+  if (!q) return 0;
+  if (distance.at<float>(q->y(), q->x()) <= options.margin_px) return -1;
   const float there = depth.empty() ? 0.f : depth.at<float>(q->y(), q->x());
   const bool hidden = ids.at<uint16_t>(q->y(), q->x()) != 0 && there > 0 &&
                       there < camera.Depth(x) - options.occlusion_tolerance;
-  return !hidden;
+  return hidden ? 0 : 1;
 }
 
 }  // namespace
@@ -65,15 +67,18 @@ std::vector<bool> OutsideSilhouettes(const std::vector<Eigen::Vector3d>& vertice
   std::vector<bool> outside(vertices.size(), false);
   if (options.min_views <= 0) return outside;
   CheckInputs(cameras, depths, instance_ids);
-  std::vector<int> votes(vertices.size(), 0);
+  std::vector<int> off(vertices.size(), 0), on(vertices.size(), 0);
   for (size_t v = 0; v < cameras.size(); ++v) {
     const cv::Mat distance = DistanceToObject(instance_ids[v], object_id);
     if (distance.empty()) continue;
-    for (size_t i = 0; i < vertices.size(); ++i)
-      votes[i] +=
-          SeenOutside(vertices[i], cameras[v], distance, depths[v], instance_ids[v], options);
+    for (size_t i = 0; i < vertices.size(); ++i) {
+      const int vote = Vote(vertices[i], cameras[v], distance, depths[v], instance_ids[v], options);
+      off[i] += vote > 0;
+      on[i] += vote < 0;
+    }
   }
-  for (size_t i = 0; i < vertices.size(); ++i) outside[i] = votes[i] >= options.min_views;
+  for (size_t i = 0; i < vertices.size(); ++i)
+    outside[i] = off[i] >= options.min_views && off[i] > on[i];
   return outside;
 }
 

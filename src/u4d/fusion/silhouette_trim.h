@@ -6,11 +6,15 @@
 // point (a limb seen obliquely, the top of the head, a gap between the views'
 // depths) it bridges the gap. That bridge is right where it stays inside the
 // object's silhouettes and wrong (a balloon) where it leaves them. So a
-// vertex is removed when the views say it is not the object: projected into
-// a view, it falls farther than `margin_px` from every pixel of the object's
-// mask, and no nearer surface hides it there (the pixel's object, of another
-// id, is not in front of it by more than `occlusion_tolerance`). It must be
-// so in at least `min_views` views: one view's mask may miss a part.
+// vertex is removed when the views say it is not the object. A view says
+// "off" when the vertex, projected into it, falls farther than `margin_px`
+// from every pixel of the object's mask and no nearer surface hides it there
+// (the pixel's object, of another id, is not in front of it by more than
+// `occlusion_tolerance`); it says "on" when the vertex falls within the
+// margin. The vertex is removed when at least `min_views` views say off and
+// more views say off than on. The strict visual hull (one view off suffices)
+// assumes perfect masks; estimated masks miss a limb in a view or two, most
+// often where one person crosses another, and the majority keeps it.
 //
 // A view gives no evidence where the vertex projects outside the image or
 // behind the camera, or where the object has no pixel at all (a detector's
@@ -37,8 +41,9 @@ struct SilhouetteTrimOptions {
   void Check() const;  // throws u4d::Error naming the bad field
 };
 
-// For every vertex, whether at least `options.min_views` views see it outside
-// the silhouette of `object_id` (false for all when min_views is 0).
+// For every vertex, whether at least `options.min_views` views, and more than
+// see it on the object, see it outside the silhouette of `object_id` (false
+// for all when min_views is 0).
 std::vector<bool> OutsideSilhouettes(const std::vector<Eigen::Vector3d>& vertices,
                                      const std::vector<Camera>& cameras,
                                      const std::vector<cv::Mat>& depths,

@@ -49,7 +49,10 @@ TEST(SilhouetteTrim, AVertexTwoViewsSeeOffTheObjectIsOutside) {
   EXPECT_FALSE(Outside({off, on, on}));  // one view's mask may miss a part
   SilhouetteTrimOptions one;
   one.min_views = 1;
-  EXPECT_TRUE(Outside({off, on, on}, one));
+  EXPECT_TRUE(Outside({off}, one));
+  EXPECT_FALSE(Outside({off, on, on}, one));  // more views see it on the object
+  EXPECT_FALSE(Outside({off, off, on, on}));  // as many see it on as off
+  EXPECT_TRUE(Outside({off, off, off, on, on}));
   SilhouetteTrimOptions none;
   none.min_views = 0;
   EXPECT_FALSE(Outside({off, off, off}, none));
