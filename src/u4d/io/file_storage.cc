@@ -101,18 +101,20 @@ bool ItemOrKeyLine(std::string_view content) {
 // OpenCV's YAML parser (4.6) loops forever on more malformed input than the
 // multi-document kind: a line indented less than the block it closes but
 // more than the block around it ("  dt: d" then " abc-x"), a bare word on a
-// line of its own, stray bytes. The files read here are what
+// line of its own, stray bytes, a document whose first line is indented and
+// a later one is not (" a: 1" then "- x"). The files read here are what
 // cv::FileStorage and the tools like it write, so only that subset of YAML
 // reaches the parser: text without foreign bytes; each line "key: value"
 // with a plain key, "- item", or the continuation of a [ ] sequence opened
-// above; each line indented deeper than the open block or exactly as one
-// of the enclosing blocks.
+// above; the first of them not indented; each line indented deeper than
+// the open block or exactly as one of the enclosing blocks.
 void CheckYamlLines(const fs::path& path, const std::string& what) {
   const std::string text = ReadTextFile(path);
   const size_t first = text.find_first_not_of(" \t\r\n");
   if (first == std::string::npos || text[first] == '<' || text[first] == '{') return;
   std::vector<size_t> open = {0};  // indentation of the enclosing blocks
   int depth = 0;                   // open '[' and '{' of a flow sequence
+  bool first_block = true;         // no "key: value" or "- item" line yet
   int line_number = 0;
   for (size_t start = 0; start < text.size(); ++line_number) {
     const size_t end = std::min(text.find('\n', start), text.size());
@@ -131,6 +133,8 @@ void CheckYamlLines(const fs::path& path, const std::string& what) {
     if (depth == 0) {
       if (!ItemOrKeyLine(line.substr(indent)))
         refuse("neither 'key: value' nor '- item' nor inside a [ ] sequence");
+      if (first_block && indent > 0) refuse("the document's first line is indented");
+      first_block = false;
       bool closed = false;
       while (open.size() > 1 && indent < open.back()) {
         open.pop_back();

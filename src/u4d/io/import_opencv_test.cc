@@ -251,7 +251,8 @@ TEST(ImportOpenCv, OnlyTheYamlOpenCvWritesReachesItsParser) {
       {"%YAML:1.0\nK:\n  dt: d\n abc-x\n", "neither 'key: value'"},
       {"%YAML:1.0\nK: 1\nd: \xff\n", "non-text byte"},
       {"%YAML:1.0\nK: [ 1, 2\n", "not closed"},
-      {"%YAML:1.0\nK: 1 ]\n", "closes nothing"}};
+      {"%YAML:1.0\nK: 1 ]\n", "closes nothing"},
+      {"%YAML:1.0\n---\n a: 1\n- x\n", "first line is indented"}};
   ExpectYamlRefused(dir, bad, "only the YAML that cv::FileStorage writes");
   const fs::path good = dir / "good.yml";
   WriteTextFileAtomic(good,
