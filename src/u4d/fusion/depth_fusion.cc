@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <open3d/geometry/KDTreeFlann.h>
 #include <open3d/geometry/PointCloud.h>
@@ -232,18 +233,23 @@ FusedMesh FuseObject(const std::vector<Camera>& cameras, const std::vector<cv::M
     const double cut = Quantile(densities, options.density_quantile);
     for (size_t i = 0; i < densities.size(); ++i) remove[i] = densities[i] < cut;
   }
-  if (options.trim_distance_factor > 0) {
-    const double max_d = options.trim_distance_factor * out.point_spacing;
+  // Each vertex's distance to the nearest point: the distance trim, and the
+  // silhouette trim's support.
+  std::vector<double> nearest(mesh->vertices_.size(), std::numeric_limits<double>::infinity());
+  {
     open3d::geometry::KDTreeFlann tree(cloud);
     std::vector<int> idx(1);
     std::vector<double> d2(1);
-    for (size_t i = 0; i < mesh->vertices_.size(); ++i) {
-      if (remove[i]) continue;
-      if (tree.SearchKNN(mesh->vertices_[i], 1, idx, d2) < 1 || d2[0] > max_d * max_d)
-        remove[i] = true;
-    }
+    for (size_t i = 0; i < mesh->vertices_.size(); ++i)
+      if (tree.SearchKNN(mesh->vertices_[i], 1, idx, d2) >= 1) nearest[i] = std::sqrt(d2[0]);
   }
-  const std::vector<bool> outside = OutsideSilhouettes(mesh->vertices_, cameras, depths,
+  if (options.trim_distance_factor > 0)
+    for (size_t i = 0; i < nearest.size(); ++i)
+      remove[i] = remove[i] || nearest[i] > options.trim_distance_factor * out.point_spacing;
+  std::vector<bool> supported(nearest.size());
+  for (size_t i = 0; i < nearest.size(); ++i)
+    supported[i] = nearest[i] <= options.silhouette.support_factor * out.point_spacing;
+  const std::vector<bool> outside = OutsideSilhouettes(mesh->vertices_, supported, cameras, depths,
                                                        instance_ids, object_id, options.silhouette);
   for (size_t i = 0; i < remove.size(); ++i) remove[i] = remove[i] || outside[i];
   mesh->RemoveVerticesByMask(remove);

@@ -28,6 +28,9 @@ void DeclareOptions(OptionRegistry& r, FusionOptions* o) {
         "pixels; a vertex this close to the object's mask counts as inside it");
   r.Add("silhouette_occlusion_tolerance", &o->silhouette.occlusion_tolerance,
         "metres; another object nearer by more hides the vertex from that view");
+  r.Add("silhouette_support_factor", &o->silhouette.support_factor,
+        "point spacings; a vertex this near a depth point is trimmed only when more views see it "
+        "off the mask than on it");
   r.Add("fill_hole_radius", &o->fill_hole_radius,
         "metres; the trimmed surface's holes up to this radius are closed (0 = off)");
 }

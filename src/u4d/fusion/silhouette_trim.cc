@@ -13,6 +13,8 @@ void SilhouetteTrimOptions::Check() const {
   U4D_CHECK(min_views >= 0, "SilhouetteTrimOptions.min_views must be >= 0 (0 = off), found {}",
             min_views);
   U4D_CHECK(margin_px >= 0, "SilhouetteTrimOptions.margin_px must be >= 0, found {}", margin_px);
+  U4D_CHECK(support_factor >= 0, "SilhouetteTrimOptions.support_factor must be >= 0, found {}",
+            support_factor);
   U4D_CHECK(occlusion_tolerance > 0,
             "SilhouetteTrimOptions.occlusion_tolerance must be > 0, found {}", occlusion_tolerance);
 }
@@ -60,6 +62,7 @@ int Vote(const Eigen::Vector3d& x, const Camera& camera, const cv::Mat& distance
 }  // namespace
 
 std::vector<bool> OutsideSilhouettes(const std::vector<Eigen::Vector3d>& vertices,
+                                     const std::vector<bool>& supported,
                                      const std::vector<Camera>& cameras,
                                      const std::vector<cv::Mat>& depths,
                                      const std::vector<cv::Mat>& instance_ids, int object_id,
@@ -67,6 +70,9 @@ std::vector<bool> OutsideSilhouettes(const std::vector<Eigen::Vector3d>& vertice
   std::vector<bool> outside(vertices.size(), false);
   if (options.min_views <= 0) return outside;
   CheckInputs(cameras, depths, instance_ids);
+  U4D_CHECK(supported.empty() || supported.size() == vertices.size(),
+            "OutsideSilhouettes: {} support flags for {} vertices", supported.size(),
+            vertices.size());
   std::vector<int> off(vertices.size(), 0), on(vertices.size(), 0);
   for (size_t v = 0; v < cameras.size(); ++v) {
     const cv::Mat distance = DistanceToObject(instance_ids[v], object_id);
@@ -78,7 +84,8 @@ std::vector<bool> OutsideSilhouettes(const std::vector<Eigen::Vector3d>& vertice
     }
   }
   for (size_t i = 0; i < vertices.size(); ++i)
-    outside[i] = off[i] >= options.min_views && off[i] > on[i];
+    outside[i] =
+        off[i] >= options.min_views && (supported.empty() || !supported[i] || off[i] > on[i]);
   return outside;
 }
 

@@ -32,30 +32,55 @@ struct View {
   }
 };
 
-bool Outside(const std::vector<View>& views, const SilhouetteTrimOptions& o = {}) {
+// Whether the vertex at the origin, off the observed surface (or on it:
+// `supported`), is outside.
+bool Outside(const std::vector<View>& views, const SilhouetteTrimOptions& o = {},
+             bool supported = false) {
   std::vector<cv::Mat> ids, depths;
   for (const View& v : views) {
     ids.push_back(v.ids);
     depths.push_back(v.depth);
   }
   const std::vector<Camera> cameras(views.size(), CameraFiveMetresAway());
-  return OutsideSilhouettes({Eigen::Vector3d::Zero()}, cameras, depths, ids, 1, o)[0];
+  return OutsideSilhouettes({Eigen::Vector3d::Zero()}, {supported}, cameras, depths, ids, 1, o)[0];
 }
 
 TEST(SilhouetteTrim, AVertexTwoViewsSeeOffTheObjectIsOutside) {
   const View off = View().Square(1, 0, 30, 5.f);  // the object ends 20 px left of the vertex
   const View on = View().Square(1, 30, 70, 5.f);
-  EXPECT_TRUE(Outside({off, off, on}));
+  EXPECT_TRUE(Outside({off, off, on, on}));
   EXPECT_FALSE(Outside({off, on, on}));  // one view's mask may miss a part
   SilhouetteTrimOptions one;
   one.min_views = 1;
-  EXPECT_TRUE(Outside({off}, one));
-  EXPECT_FALSE(Outside({off, on, on}, one));  // more views see it on the object
-  EXPECT_FALSE(Outside({off, off, on, on}));  // as many see it on as off
-  EXPECT_TRUE(Outside({off, off, off, on, on}));
+  EXPECT_TRUE(Outside({off, on, on}, one));
   SilhouetteTrimOptions none;
   none.min_views = 0;
   EXPECT_FALSE(Outside({off, off, off}, none));
+}
+
+// On the observed surface (a depth point near), two views' masks that miss
+// a part the others hold do not cut it: more views must see it off than on.
+TEST(SilhouetteTrim, AVertexOnTheObservedSurfaceGoesOnlyWhenMostViewsSeeItOff) {
+  const View off = View().Square(1, 0, 30, 5.f);
+  const View on = View().Square(1, 30, 70, 5.f);
+  EXPECT_FALSE(Outside({off, off, on, on}, {}, /*supported=*/true));
+  EXPECT_TRUE(Outside({off, off, off, on, on}, {}, true));
+  SilhouetteTrimOptions one;
+  one.min_views = 1;
+  EXPECT_TRUE(Outside({off}, one, true));
+  EXPECT_FALSE(Outside({off, on}, one, true));
+  // Without support flags no vertex is on the observed surface.
+  const std::vector<Camera> cameras(4, CameraFiveMetresAway());
+  EXPECT_TRUE(OutsideSilhouettes({Eigen::Vector3d::Zero()}, {}, cameras,
+                                 {off.depth, off.depth, on.depth, on.depth},
+                                 {off.ids, off.ids, on.ids, on.ids}, 1, {})[0]);
+  test_util::ExpectErrorMentions(
+      [&] {
+        OutsideSilhouettes({Eigen::Vector3d::Zero()}, {true, true}, cameras,
+                           {off.depth, off.depth, on.depth, on.depth},
+                           {off.ids, off.ids, on.ids, on.ids}, 1, {});
+      },
+      {"2 support flags for 1 vertices"});
 }
 
 TEST(SilhouetteTrim, TheMarginCountsAsInside) {
@@ -86,7 +111,7 @@ TEST(SilhouetteTrim, AViewWithoutTheObjectOrNotSeeingTheVertexGivesNoEvidence) {
   const std::vector<Camera> cameras(2, CameraFiveMetresAway());
   const std::vector<Eigen::Vector3d> vertices{{0, 0, -6}, {10, 0, 0}};  // behind, out of the image
   const std::vector<bool> outside =
-      OutsideSilhouettes(vertices, cameras, depths, ids, 1, SilhouetteTrimOptions{});
+      OutsideSilhouettes(vertices, {}, cameras, depths, ids, 1, SilhouetteTrimOptions{});
   EXPECT_FALSE(outside[0]);
   EXPECT_FALSE(outside[1]);
 }
@@ -98,19 +123,19 @@ TEST(SilhouetteTrim, BadInputsThrow) {
   const SilhouetteTrimOptions o;
   test_util::ExpectErrorMentions(
       [&] {
-        OutsideSilhouettes(vertex, cameras, {view.depth}, {view.ids, view.ids}, 1, o);
+        OutsideSilhouettes(vertex, {}, cameras, {view.depth}, {view.ids, view.ids}, 1, o);
       },
       {"one depth and instance map per camera"});
   const cv::Mat small = cv::Mat::zeros(50, 50, CV_16UC1);
   test_util::ExpectErrorMentions(
       [&] {
-        OutsideSilhouettes(vertex, cameras, {view.depth, view.depth}, {view.ids, small}, 1, o);
+        OutsideSilhouettes(vertex, {}, cameras, {view.depth, view.depth}, {view.ids, small}, 1, o);
       },
       {"instance ids of view 1", "100x100", "50x50"});
   const cv::Mat bytes = cv::Mat::zeros(kSize, kSize, CV_8UC1);
   test_util::ExpectErrorMentions(
       [&] {
-        OutsideSilhouettes(vertex, cameras, {bytes, view.depth}, {view.ids, view.ids}, 1, o);
+        OutsideSilhouettes(vertex, {}, cameras, {bytes, view.depth}, {view.ids, view.ids}, 1, o);
       },
       {"depth of view 0", "CV_32FC1"});
 }
@@ -125,6 +150,9 @@ TEST(SilhouetteTrim, BadOptionsThrow) {
   o = {};
   o.occlusion_tolerance = 0;
   test_util::ExpectErrorMentions([&] { o.Check(); }, {"occlusion_tolerance"});
+  o = {};
+  o.support_factor = -1;
+  test_util::ExpectErrorMentions([&] { o.Check(); }, {"support_factor"});
 }
 
 }  // namespace
