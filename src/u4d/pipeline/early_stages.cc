@@ -23,25 +23,61 @@
 namespace u4d {
 namespace {
 
+// The mean of a pose's known joints (world), its position for LinkObjects.
+Eigen::Vector3d PoseCentroid(const Pose3d& pose) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  int n = 0;
+  for (const Eigen::Vector4d& j : pose.joints)
+    if (j.w() > 0) sum += j.head<3>(), ++n;
+  return n > 0 ? Eigen::Vector3d(sum / n) : sum;
+}
+
+// The run's ids of the people of a shot starting at `first` (`people`, its
+// poses there, track ids from 0): after a cut the given masks' colours name
+// them after the people of earlier shots (LinkObjects across a cut, the
+// linker holding those people); without given masks, or with
+// link.max_appearance_distance 0, each gets a new id.
+std::map<int, int> ShotIds(RunContext& c, int first, const std::vector<Pose3d>& people,
+                           ObjectLinker* linker) {
+  std::vector<Pose3d> named = people;
+  for (Pose3d& p : named) ++p.person_id;  // object ids start at 1
+  std::map<int, Eigen::Vector3d> centroids;
+  for (const Pose3d& p : named) centroids[p.person_id] = PoseCentroid(p);
+  std::map<int, ObjectAppearance> appearances;
+  if (c.masks == MaskSource::kGiven && linker->options.max_appearance_distance > 0) {
+    const std::vector<cv::Mat> masks = IdImages(KeepInstances(ReadGivenMasks(c, first), true));
+    appearances = ObjectAppearances(
+        ReadViews(c, first), ObjectsFromPoses(c.Cameras(first), masks, named, c.o.frame_setup).ids);
+  } else {
+    linker->tracks.clear();
+  }
+  linker->after_cut = !linker->tracks.empty();
+  std::map<int, int> ids;
+  for (const auto& [k, id] : LinkObjects(centroids, appearances, {}, linker)) ids[k - 1] = id;
+  return ids;
+}
+
 // Poses tracked and smoothed within each shot (a cut ends every track);
-// ids are unique over the run and start at 1.
-std::vector<std::vector<Pose3d>> TrackPosesInShots(const RunContext& c,
+// ids are unique over the run and start at 1, and a person seen in an
+// earlier shot takes its id back (ShotIds).
+std::vector<std::vector<Pose3d>> TrackPosesInShots(RunContext& c,
                                                    const std::vector<std::vector<Pose3d>>& raw) {
   std::vector<std::vector<Pose3d>> poses;
-  int next_id = 1;
+  ObjectLinker linker;
+  linker.options = c.o.link;
   for (const auto& [first, last] : c.Shots()) {
     const std::vector<std::vector<Pose3d>> shot(raw.begin() + (first - c.f0),
                                                 raw.begin() + (last - c.f0));
-    int max_id = next_id - 1;
-    for (std::vector<Pose3d> frame :
-         SmoothTrackedPoses(TrackPoses(shot, c.o.pose_tracking), c.cap.fps, c.o.pose_smoothing)) {
+    std::vector<std::vector<Pose3d>> tracked =
+        SmoothTrackedPoses(TrackPoses(shot, c.o.pose_tracking), c.cap.fps, c.o.pose_smoothing);
+    std::map<int, int> ids = ShotIds(c, first, tracked.front(), &linker);
+    for (std::vector<Pose3d>& frame : tracked) {
       for (Pose3d& p : frame) {
-        p.person_id += next_id;  // track ids start at 0
-        max_id = std::max(max_id, p.person_id);
+        if (!ids.count(p.person_id)) ids[p.person_id] = linker.next_id++;  // enters later
+        p.person_id = ids.at(p.person_id);
       }
       poses.push_back(std::move(frame));
     }
-    next_id = max_id + 1;
   }
   return poses;
 }
@@ -166,9 +202,11 @@ int ComputeInitialObjects(RunContext& c, const std::vector<std::vector<Pose3d>>&
   Progress progress("initial", c.NumFrames(), c.o.progress);
   for (int k = 0; k < c.NumFrames(); ++k) {
     const int f = c.f0 + k;
-    if (!c.Continues(f)) {  // after a cut the previous people say nothing
-      linker.tracks.clear();
-      others_linker.tracks.clear();
+    if (!c.Continues(f)) {  // after a cut positions say nothing; colours may
+      for (ObjectLinker* l : {&linker, &others_linker}) {
+        if (l->options.max_appearance_distance <= 0) l->tracks.clear();
+        l->after_cut = !l->tracks.empty();
+      }
       ground_people.clear();
     }
     if (next_people[k]) ground_people = *next_people[k];

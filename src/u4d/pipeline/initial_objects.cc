@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <set>
 #include <tuple>
@@ -27,33 +28,30 @@ cv::Mat Relabel(const cv::Mat& ids, const std::map<int, int>& new_id) {
   return out;
 }
 
-// Per-frame object k -> linked id, updating the linker.
-std::map<int, int> LinkObjects(const std::map<int, Eigen::Vector3d>& centroids,
-                               const std::map<int, std::string>& labels, ObjectLinker* linker) {
-  auto label_of = [&](int k) {
-    const auto it = labels.find(k);
-    return it == labels.end() ? std::string() : it->second;
-  };
-  std::vector<std::tuple<double, int, int>> pairs;  // distance, object, track id
+// (distance, per-frame object, track id) of the pairs that may be one
+// object: alike labels, and within the centroid jump (continuous frames) or
+// the appearance distance (after a cut).
+using LinkPairs = std::vector<std::tuple<double, int, int>>;
+LinkPairs CandidatePairs(const std::map<int, Eigen::Vector3d>& centroids,
+                         const std::map<int, ObjectAppearance>& appearances,
+                         const std::function<std::string(int)>& label_of,
+                         const ObjectLinker& linker) {
+  LinkPairs pairs;
   for (const auto& [k, c] : centroids)
-    for (const auto& [id, track] : linker->tracks) {
+    for (const auto& [id, track] : linker.tracks) {
       if (track.label != label_of(k)) continue;
-      const double d = (c - track.position).norm();
-      if (d <= linker->options.max_centroid_jump_m * (1 + track.missing))
-        pairs.emplace_back(d, k, id);
+      if (linker.after_cut) {
+        const auto a = appearances.find(k);
+        if (a == appearances.end() || track.appearance.pixels <= 0) continue;
+        const double d = AppearanceDistance(a->second, track.appearance);
+        if (d <= linker.options.max_appearance_distance) pairs.emplace_back(d, k, id);
+      } else {
+        const double d = (c - track.position).norm();
+        if (d <= linker.options.max_centroid_jump_m * (1 + track.missing))
+          pairs.emplace_back(d, k, id);
+      }
     }
-  std::sort(pairs.begin(), pairs.end());
-  std::map<int, int> link;
-  std::set<int> taken;
-  for (const auto& [d, k, id] : pairs)
-    if (!link.count(k) && !taken.count(id)) link[k] = id, taken.insert(id);
-  for (const auto& [k, c] : centroids)
-    if (!link.count(k)) link[k] = linker->next_id++;
-  for (auto it = linker->tracks.begin(); it != linker->tracks.end();)
-    it =
-        ++it->second.missing > linker->options.max_missing_frames ? linker->tracks.erase(it) : ++it;
-  for (const auto& [k, c] : centroids) linker->tracks[link[k]] = {c, 0, label_of(k)};
-  return link;
+  return pairs;
 }
 
 // Mask id k is object k in every view where it occurs.
@@ -124,12 +122,43 @@ void AttachFragments(const std::vector<cv::Mat>& masks, const std::vector<Sparse
 
 }  // namespace
 
+std::map<int, int> LinkObjects(const std::map<int, Eigen::Vector3d>& centroids,
+                               const std::map<int, ObjectAppearance>& appearances,
+                               const std::map<int, std::string>& labels, ObjectLinker* linker) {
+  auto label_of = [&](int k) {
+    const auto it = labels.find(k);
+    return it == labels.end() ? std::string() : it->second;
+  };
+  LinkPairs pairs = CandidatePairs(centroids, appearances, label_of, *linker);
+  std::sort(pairs.begin(), pairs.end());
+  std::map<int, int> link;
+  std::set<int> taken;
+  for (const auto& [d, k, id] : pairs)
+    if (!link.count(k) && !taken.count(id)) link[k] = id, taken.insert(id);
+  for (const auto& [k, c] : centroids)
+    if (!link.count(k)) link[k] = linker->next_id++;
+  for (auto it = linker->tracks.begin(); it != linker->tracks.end();)
+    it =
+        ++it->second.missing > linker->options.max_missing_frames ? linker->tracks.erase(it) : ++it;
+  for (const auto& [k, c] : centroids) {
+    ObjectLinker::Track& track = linker->tracks[link[k]];
+    const auto a = appearances.find(k);
+    const ObjectAppearance seen = a == appearances.end() ? ObjectAppearance{} : a->second;
+    track = {c, MeanAppearance(track.appearance, seen), 0, label_of(k)};
+  }
+  linker->after_cut = false;
+  return link;
+}
+
 void ObjectLinkOptions::Check() const {
   U4D_CHECK(max_centroid_jump_m > 0 && std::isfinite(max_centroid_jump_m),
             "ObjectLinkOptions.max_centroid_jump_m must be finite and > 0, got {}",
             max_centroid_jump_m);
   U4D_CHECK(max_missing_frames >= 0, "ObjectLinkOptions.max_missing_frames must be >= 0, got {}",
             max_missing_frames);
+  U4D_CHECK(max_appearance_distance >= 0 && std::isfinite(max_appearance_distance),
+            "ObjectLinkOptions.max_appearance_distance must be finite and >= 0, got {}",
+            max_appearance_distance);
 }
 
 cv::Mat KeepGivenPixels(const cv::Mat& given, const cv::Mat& named) {
@@ -257,8 +286,15 @@ FrameObjects ObjectsFromSparse(const std::vector<Camera>& cameras,
     }
     centroids[k] = m;
   }
-  const std::map<int, int> link =
-      LinkObjects(centroids, ObjectLabels(sparse.association, classes), linker);
+  std::vector<cv::Mat> object_masks(masks.size());  // per view, per-frame object k
+  for (size_t v = 0; v < masks.size(); ++v) {
+    if (masks[v].empty()) continue;
+    cv::Mat ids16;
+    masks[v].convertTo(ids16, CV_16U);
+    object_masks[v] = Relabel(ids16, sparse.association.object_of[v]);
+  }
+  const std::map<int, int> link = LinkObjects(centroids, ObjectAppearances(images, object_masks),
+                                              ObjectLabels(sparse.association, classes), linker);
 
   FrameObjects out;
   out.num_sparse_points = static_cast<int>(sparse.points.size());

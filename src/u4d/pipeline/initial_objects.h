@@ -31,7 +31,11 @@
 // since that object was last seen; otherwise a new id. A tracked object not
 // seen in a frame (missed everywhere, or merged with another person in every
 // view) keeps its id for max_missing_frames, so that it takes it back when it
-// reappears instead of becoming a new person.
+// reappears instead of becoming a new person. Across a cut in time (frames
+// far apart in the source, RunOptions::max_frame_gap_s) positions say
+// nothing: an object takes the id of the tracked object whose colours are
+// nearest (features/object_appearance.h; greedy, nearest pairs first) within
+// max_appearance_distance, else a new id.
 //
 // Files (io/layout.h): initial/masks/<view>/<frame>.png (16-bit ids, an
 // absent file = no mask in that view) and initial/objects/<frame>.json
@@ -50,6 +54,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
+#include "u4d/features/object_appearance.h"
 #include "u4d/features/object_regions.h"
 #include "u4d/features/sparse_points.h"
 #include "u4d/init/init.h"
@@ -75,6 +80,12 @@ struct FrameObjects {
 struct ObjectLinkOptions {
   double max_centroid_jump_m = 0.5;  // farther centroids (per frame unseen) are different objects
   int max_missing_frames = 25;       // an unseen object is forgotten after this many frames
+  // Across a cut, an object's colours (Delta E, object_appearance.h) may
+  // differ from a track's by at most this and still be that object (0 = a
+  // cut forgets every object). 10: colours that differ by more are distinct
+  // at a glance (2.3 is the smallest difference an eye sees); one person's
+  // colours change less between views and instants under the same light.
+  double max_appearance_distance = 10.0;
 
   void Check() const;  // throws u4d::Error naming the field on a bad value
 };
@@ -83,13 +94,23 @@ struct ObjectLinkOptions {
 struct ObjectLinker {
   ObjectLinkOptions options;
   struct Track {
-    Eigen::Vector3d position;  // world centroid when last seen
-    int missing = 0;           // frames since then
-    std::string label;         // the detector's class ("" when unknown): links only alike
+    Eigen::Vector3d position;     // world centroid when last seen
+    ObjectAppearance appearance;  // colours, pixel-weighted over the frames seen
+    int missing = 0;              // frames since then
+    std::string label;            // the detector's class ("" when unknown): links only alike
   };
   std::map<int, Track> tracks;  // object id -> track
   int next_id = 1;
+  bool after_cut = false;  // the next frame links by appearance (set at a cut, then cleared)
 };
+
+// Per-frame object k (keys of `centroids`, world; `appearances` and
+// `labels` of the same keys, each may lack some) -> its id, updating the
+// linker's tracks as above: nearest tracked centroid, or after a cut
+// (linker->after_cut, then cleared) nearest colours; else a new id.
+std::map<int, int> LinkObjects(const std::map<int, Eigen::Vector3d>& centroids,
+                               const std::map<int, ObjectAppearance>& appearances,
+                               const std::map<int, std::string>& labels, ObjectLinker* linker);
 
 // Without poses: detector masks (ids local to each image; an empty Mat = no
 // mask file, nothing detected) named by the people of the frame's voxel hull

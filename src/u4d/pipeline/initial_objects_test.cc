@@ -188,5 +188,67 @@ TEST(ObjectsFromSparseTest, AnObjectMergedWithItsHolderInHalfTheViewsIsFound) {
   EXPECT_EQ(cv::countNonZero(alone.ids[0] != people[0]), 0);
 }
 
+// Across a cut (frames far apart in time) positions say nothing: each person
+// takes back its id by the colours it wears (ObjectLinker::after_cut). The
+// second frame's masks number the people the other way round, as a detector
+// renumbering its instances would.
+TEST(ObjectsFromSparseTest, AfterACutEachPersonTakesBackItsIdByItsColours) {
+  synth::SynthOptions o = synth::SynthPreset("handshake");
+  o.rig.image_width = 320;
+  o.rig.image_height = 180;
+  o.rig.num_views = 4;
+  o.write_meshes = false;
+  const Capture capture =
+      ReadCapture(test_util::RemovedAtExit(synth::WriteCaptureToTempDir("reid_cut", o)));
+  const int last = capture.num_frames - 1;
+  auto frame = [&](int f, bool swap, ObjectLinker* linker) {
+    std::vector<Camera> cameras;
+    std::vector<cv::Mat> images, masks;
+    for (const CaptureView& view : capture.views) {
+      cameras.push_back(view.CameraAt(f));
+      images.push_back(ReadColorImage(capture.root / layout::Image(view.name, f)));
+      cv::Mat gt = ReadLabelImage(capture.root / layout::GtInstances(view.name, f));
+      if (swap) gt = (gt == 1) / 255 * 2 + (gt == 2) / 255;
+      gt.convertTo(gt, CV_16U);
+      masks.push_back(gt);
+    }
+    return ObjectsFromSparse(cameras, images, masks, SparseFrameOptions{}, ObjectRegionOptions{},
+                             linker, /*ids_alike_across_views=*/true);
+  };
+  // The id most of GT person `person`'s pixels take in view 0.
+  auto id_of = [&](const FrameObjects& found, int f, int person) {
+    const cv::Mat gt = ReadLabelImage(capture.root / layout::GtInstances(capture.views[0].name, f));
+    std::map<int, int> votes;
+    for (int y = 0; y < gt.rows; ++y)
+      for (int x = 0; x < gt.cols; ++x)
+        if (gt.at<uint16_t>(y, x) == person) ++votes[found.ids[0].at<uint16_t>(y, x)];
+    votes.erase(0);
+    int id = 0, most = 0;
+    for (const auto& [k, n] : votes)
+      if (n > most) id = k, most = n;
+    return id;
+  };
+  ObjectLinker linker;
+  const FrameObjects first = frame(0, false, &linker);
+  linker.after_cut = true;
+  const FrameObjects after = frame(last, true, &linker);
+  for (int person : {1, 2}) {
+    const int before_id = id_of(first, 0, person), after_id = id_of(after, last, person);
+    std::printf("GT person %d: id %d at frame 0, id %d after the cut at frame %d\n", person,
+                before_id, after_id, last);
+    EXPECT_NE(before_id, 0);
+    EXPECT_EQ(after_id, before_id) << "GT person " << person;
+  }
+  EXPECT_EQ(linker.next_id, 3);  // no new id
+  // With re-identification off, a cut forgets every object.
+  ObjectLinker forgetful;
+  forgetful.options.max_appearance_distance = 0;
+  frame(0, false, &forgetful);
+  forgetful.after_cut = true;
+  const FrameObjects anew = frame(last, true, &forgetful);
+  EXPECT_GE(id_of(anew, last, 1), 3);
+  EXPECT_GE(id_of(anew, last, 2), 3);
+}
+
 }  // namespace
 }  // namespace u4d

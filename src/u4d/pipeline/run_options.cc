@@ -115,6 +115,9 @@ void DeclareOptions(OptionRegistry& r, ObjectLinkOptions* o) {
         "farther centroids (per frame unseen) are different objects");
   r.Add("max_missing_frames", &o->max_missing_frames,
         "an unseen object is forgotten after this many frames");
+  r.Add("max_appearance_distance", &o->max_appearance_distance,
+        "across a cut in time, an object whose colours differ from a tracked one's by at most "
+        "this (Delta E) is that object; 0 = a cut forgets every object");
 }
 
 void DeclareOptions(OptionRegistry& r, UnlabelledObjectOptions* o) {
