@@ -188,6 +188,7 @@ int ComputeInitialObjects(RunContext& c, const std::vector<std::vector<Pose3d>>&
   // other classes are named apart, from one counter of ids.
   ObjectLinker others_linker;
   others_linker.options = c.o.link;
+  linker.keep_appearance = others_linker.keep_appearance = c.Shots().size() > 1;
   for (const auto& frame : poses)
     for (const Pose3d& p : frame) linker.next_id = std::max(linker.next_id, p.person_id + 1);
   // The ground-plane step (init.h step 6) names people alike in every

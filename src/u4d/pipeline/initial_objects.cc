@@ -286,15 +286,19 @@ FrameObjects ObjectsFromSparse(const std::vector<Camera>& cameras,
     }
     centroids[k] = m;
   }
-  std::vector<cv::Mat> object_masks(masks.size());  // per view, per-frame object k
-  for (size_t v = 0; v < masks.size(); ++v) {
-    if (masks[v].empty()) continue;
-    cv::Mat ids16;
-    masks[v].convertTo(ids16, CV_16U);
-    object_masks[v] = Relabel(ids16, sparse.association.object_of[v]);
+  std::map<int, ObjectAppearance> appearances;
+  if (linker->keep_appearance) {
+    std::vector<cv::Mat> object_masks(masks.size());  // per view, per-frame object k
+    for (size_t v = 0; v < masks.size(); ++v) {
+      if (masks[v].empty()) continue;
+      cv::Mat ids16;
+      masks[v].convertTo(ids16, CV_16U);
+      object_masks[v] = Relabel(ids16, sparse.association.object_of[v]);
+    }
+    appearances = ObjectAppearances(images, object_masks);
   }
-  const std::map<int, int> link = LinkObjects(centroids, ObjectAppearances(images, object_masks),
-                                              ObjectLabels(sparse.association, classes), linker);
+  const std::map<int, int> link =
+      LinkObjects(centroids, appearances, ObjectLabels(sparse.association, classes), linker);
 
   FrameObjects out;
   out.num_sparse_points = static_cast<int>(sparse.points.size());

@@ -101,7 +101,8 @@ struct ObjectLinker {
   };
   std::map<int, Track> tracks;  // object id -> track
   int next_id = 1;
-  bool after_cut = false;  // the next frame links by appearance (set at a cut, then cleared)
+  bool after_cut = false;       // the next frame links by appearance (set at a cut, then cleared)
+  bool keep_appearance = true;  // tracks keep their colours (false where no cut comes)
 };
 
 // Per-frame object k (keys of `centroids`, world; `appearances` and
