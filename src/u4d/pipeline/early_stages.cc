@@ -35,8 +35,8 @@ Eigen::Vector3d PoseCentroid(const Pose3d& pose) {
 // The run's ids of the people of a shot starting at `first` (`people`, its
 // poses there, track ids from 0): after a cut the given masks' colours name
 // them after the people of earlier shots (LinkObjects across a cut, the
-// linker holding those people); without given masks, or with
-// link.max_appearance_distance 0, each gets a new id.
+// linker holding those people, CutLinker); where the linker keeps no
+// colours (no given masks, or no cut in the run), each gets a new id.
 std::map<int, int> ShotIds(RunContext& c, int first, const std::vector<Pose3d>& people,
                            ObjectLinker* linker) {
   std::vector<Pose3d> named = people;
@@ -44,14 +44,12 @@ std::map<int, int> ShotIds(RunContext& c, int first, const std::vector<Pose3d>& 
   std::map<int, Eigen::Vector3d> centroids;
   for (const Pose3d& p : named) centroids[p.person_id] = PoseCentroid(p);
   std::map<int, ObjectAppearance> appearances;
-  if (c.masks == MaskSource::kGiven && linker->options.max_appearance_distance > 0) {
+  if (linker->keep_appearance && linker->options.max_appearance_distance > 0) {
     const std::vector<cv::Mat> masks = IdImages(KeepInstances(ReadGivenMasks(c, first), true));
     appearances = ObjectAppearances(
         ReadViews(c, first), ObjectsFromPoses(c.Cameras(first), masks, named, c.o.frame_setup).ids);
-  } else {
-    linker->tracks.clear();
   }
-  linker->after_cut = !linker->tracks.empty();
+  CutLinker(linker);
   std::map<int, int> ids;
   for (const auto& [k, id] : LinkObjects(centroids, appearances, {}, linker)) ids[k - 1] = id;
   return ids;
@@ -65,6 +63,7 @@ std::vector<std::vector<Pose3d>> TrackPosesInShots(RunContext& c,
   std::vector<std::vector<Pose3d>> poses;
   ObjectLinker linker;
   linker.options = c.o.link;
+  linker.keep_appearance = c.masks == MaskSource::kGiven && c.Shots().size() > 1;
   for (const auto& [first, last] : c.Shots()) {
     const std::vector<std::vector<Pose3d>> shot(raw.begin() + (first - c.f0),
                                                 raw.begin() + (last - c.f0));
@@ -204,10 +203,8 @@ int ComputeInitialObjects(RunContext& c, const std::vector<std::vector<Pose3d>>&
   for (int k = 0; k < c.NumFrames(); ++k) {
     const int f = c.f0 + k;
     if (!c.Continues(f)) {  // after a cut positions say nothing; colours may
-      for (ObjectLinker* l : {&linker, &others_linker}) {
-        if (l->options.max_appearance_distance <= 0) l->tracks.clear();
-        l->after_cut = !l->tracks.empty();
-      }
+      CutLinker(&linker);
+      CutLinker(&others_linker);
       ground_people.clear();
     }
     if (next_people[k]) ground_people = *next_people[k];

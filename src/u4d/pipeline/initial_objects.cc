@@ -150,6 +150,12 @@ std::map<int, int> LinkObjects(const std::map<int, Eigen::Vector3d>& centroids,
   return link;
 }
 
+void CutLinker(ObjectLinker* linker) {
+  if (!linker->keep_appearance || linker->options.max_appearance_distance <= 0)
+    linker->tracks.clear();
+  linker->after_cut = !linker->tracks.empty();
+}
+
 void ObjectLinkOptions::Check() const {
   U4D_CHECK(max_centroid_jump_m > 0 && std::isfinite(max_centroid_jump_m),
             "ObjectLinkOptions.max_centroid_jump_m must be finite and > 0, got {}",

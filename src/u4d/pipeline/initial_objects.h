@@ -105,6 +105,11 @@ struct ObjectLinker {
   bool keep_appearance = true;  // tracks keep their colours (false where no cut comes)
 };
 
+// A cut in time: positions say nothing. With colours kept and
+// max_appearance_distance > 0, the next LinkObjects links by colour (if any
+// track is left to link to); otherwise every track is forgotten.
+void CutLinker(ObjectLinker* linker);
+
 // Per-frame object k (keys of `centroids`, world; `appearances` and
 // `labels` of the same keys, each may lack some) -> its id, updating the
 // linker's tracks as above: nearest tracked centroid, or after a cut

@@ -230,7 +230,7 @@ TEST(ObjectsFromSparseTest, AfterACutEachPersonTakesBackItsIdByItsColours) {
   };
   ObjectLinker linker;
   const FrameObjects first = frame(0, false, &linker);
-  linker.after_cut = true;
+  CutLinker(&linker);
   const FrameObjects after = frame(last, true, &linker);
   for (int person : {1, 2}) {
     const int before_id = id_of(first, 0, person), after_id = id_of(after, last, person);
@@ -244,7 +244,7 @@ TEST(ObjectsFromSparseTest, AfterACutEachPersonTakesBackItsIdByItsColours) {
   ObjectLinker forgetful;
   forgetful.options.max_appearance_distance = 0;
   frame(0, false, &forgetful);
-  forgetful.after_cut = true;
+  CutLinker(&forgetful);
   const FrameObjects anew = frame(last, true, &forgetful);
   EXPECT_GE(id_of(anew, last, 1), 3);
   EXPECT_GE(id_of(anew, last, 2), 3);
