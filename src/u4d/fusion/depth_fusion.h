@@ -90,6 +90,10 @@ struct FusionOptions {
   // A wider border runs between parts (the inner sides of two legs whose
   // bridge was trimmed): a membrane there would put the bridge back.
   double fill_hole_radius = 0.15;  // metres; close holes whose border is this close to its centre
+  // The pipeline's written depth maps take the fused surface's depth where
+  // it covers the object's own pixels (pipeline/mesh_depth.h): the depth all
+  // views agree on replaces the view's own, which errs in patches.
+  bool depth_from_meshes = true;
 
   void Check() const;  // throws u4d::Error naming the bad field
 };

@@ -33,6 +33,8 @@ void DeclareOptions(OptionRegistry& r, FusionOptions* o) {
         "off the mask than on it");
   r.Add("fill_hole_radius", &o->fill_hole_radius,
         "metres; the trimmed surface's holes up to this radius are closed (0 = off)");
+  r.Add("depth_from_meshes", &o->depth_from_meshes,
+        "the written depth maps take the fused surface's depth on the object's own pixels");
 }
 
 void DeclareOptions(OptionRegistry& r, TrackOptions* o) {

@@ -33,6 +33,7 @@
 #include "u4d/pipeline/camera_flow.h"
 #include "u4d/pipeline/early_stages.h"
 #include "u4d/pipeline/initial_objects.h"
+#include "u4d/pipeline/mesh_depth.h"
 #include "u4d/pipeline/object_classes.h"
 #include "u4d/pipeline/run_context.h"
 #include "u4d/pipeline/scene_outputs.h"
@@ -295,6 +296,18 @@ std::set<int> ObjectIds(const SolvedFrame& s) {
   return ids;
 }
 
+// The depth of frame s's maps (camera size, not yet written) from its fused
+// meshes (mesh_depth.h), view by view.
+void MeshDepths(SolvedFrame& s, const std::vector<FusedMesh>& fused) {
+  std::vector<const open3d::geometry::TriangleMesh*> meshes;
+  std::vector<int> ids;
+  for (const FusedMesh& m : fused)
+    if (!m.Empty()) meshes.push_back(m.mesh.get()), ids.push_back(m.object_id);
+  tbb::parallel_for(0, static_cast<int>(s.maps.size()), [&](int v) {
+    DepthFromMeshes(meshes, ids, s.full_cameras[v], s.maps[v].labels, &s.maps[v].depth);
+  });
+}
+
 // Frame f's outputs: the maps of `unwritten` (frame f - 1 when its maps
 // wait for f's labels, else null), one mesh per object (the segment's first
 // frame also starts each object's animation) and the animations tracked from
@@ -310,9 +323,10 @@ void WriteFrameOutputs(const RunContext& c, const Segment& seg, SolvedFrame& cur
   parts.AddSegmentPart("maps", timer.Seconds());
   timer.Restart();
   const int f = current.frame;
+  std::vector<FusedMesh> meshes;
   for (int id : ObjectIds(current)) {
-    const FusedMesh fused =
-        FuseObject(current.cameras, current.depth, current.labels, current.images, id, c.o.fusion);
+    const FusedMesh& fused = meshes.emplace_back(
+        FuseObject(current.cameras, current.depth, current.labels, current.images, id, c.o.fusion));
     if (fused.Empty()) continue;
     WriteLabelledMesh(c.out / layout::SceneMesh(id, f), *fused.mesh, id,
                       ObjectClass(c.classes, id));
@@ -328,6 +342,11 @@ void WriteFrameOutputs(const RunContext& c, const Segment& seg, SolvedFrame& cur
   }
   parts.AddSegmentPart("fusion", timer.Seconds());
   timer.Restart();
+  if (c.o.fusion.depth_from_meshes) {
+    MeshDepths(current, meshes);
+    parts.AddSegmentPart("mesh_depth", timer.Seconds());
+    timer.Restart();
+  }
   // Scene flow: the segment's meshes from f-1 to f.
   if (previous) {
     std::vector<SceneFlowView> views(c.NumViews());

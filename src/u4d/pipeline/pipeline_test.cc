@@ -293,8 +293,9 @@ TEST(PipelineTest, ResumesAndRecoversFromAnInterruption) {
       EXPECT_GT(part.seconds, 0.0);
     }
   }
-  EXPECT_EQ(part_names, (std::vector<std::string>{"inputs", "solve", "flow_consensus", "maps",
-                                                  "fusion", "scene_flow", "animation"}));
+  EXPECT_EQ(part_names,
+            (std::vector<std::string>{"inputs", "solve", "flow_consensus", "maps", "fusion",
+                                      "mesh_depth", "scene_flow", "animation"}));
 
   // A second run finds everything done and recomputes nothing.
   const RunResult again = RunPipeline(capture, scene, options);

@@ -12,7 +12,8 @@
 // and setting up each view's problem), "solve" (the joint view solves, all
 // views at once), "flow_consensus" (the views' flows combined,
 // fusion/flow_consensus.h), "maps" (the per-view label, depth and flow maps
-// at camera size, written), "fusion" (one mesh per object), "scene_flow"
+// at camera size, written), "fusion" (one mesh per object), "mesh_depth"
+// (the meshes' depth into the maps, pipeline/mesh_depth.h), "scene_flow"
 // (tracking the segment's meshes to the next frame) and "animation" (writing
 // the segment's glTF). It
 // is optional when read (runs written before it have none), as is
