@@ -1,6 +1,7 @@
-// The fused surfaces back into the views' depth maps: the 4D model feeding
-// back (issue 22, item 3; the paper, Sec. 3: the depth "combined across
-// views" for the final result). Each view's depth map comes from its own
+// The fused surfaces back into the views' depth maps, so that depth and
+// meshes agree (the paper, Sec. 4 "4D scene understanding": the final model
+// "fuses the semantic instance segmentation, depth information and dense
+// flow across views"). Each view's depth map comes from its own
 // solve, a label field with a smoothness term, so it errs in patches (a
 // wrong depth label over a weak texture) and the patches differ between
 // views. The per-object Poisson surface (fusion/depth_fusion.h) is a
