@@ -299,10 +299,9 @@ std::set<int> ObjectIds(const SolvedFrame& s) {
 // The depth of frame s's maps (camera size, not yet written) from its fused
 // meshes (mesh_depth.h), view by view.
 void MeshDepths(SolvedFrame& s, const std::vector<FusedMesh>& fused) {
-  std::vector<const open3d::geometry::TriangleMesh*> meshes;
+  std::vector<const open3d::geometry::TriangleMesh*> meshes;  // empty ones are skipped there
   std::vector<int> ids;
-  for (const FusedMesh& m : fused)
-    if (!m.Empty()) meshes.push_back(m.mesh.get()), ids.push_back(m.object_id);
+  for (const FusedMesh& m : fused) meshes.push_back(m.mesh.get()), ids.push_back(m.object_id);
   tbb::parallel_for(0, static_cast<int>(s.maps.size()), [&](int v) {
     DepthFromMeshes(meshes, ids, s.full_cameras[v], s.maps[v].labels, &s.maps[v].depth);
   });
