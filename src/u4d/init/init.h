@@ -411,10 +411,12 @@ cv::Mat FillStillSubjects(const cv::Mat& image_bgr, const cv::Mat& foreground,
 // Then per view, `instances` (step 4's ids) are the units: instances and
 // people are paired one to one, largest count first, by rays whose nearest
 // person is that person, then (people still unpaired) by rays crossing
-// them; a paired instance in which an unpaired person is the nearest on at
-// least min_split_share x as many rays as its own is split by each pixel's
-// nearest person; other instances take the person nearest on most of their
-// rays; instances no ray of which meets a person, and pixels farther than
+// them; a paired instance in which another person is the nearest on at
+// least min_split_share x as many rays as its own, and on more rays than in
+// any instance that person already holds (its pair, which may be a scrap of
+// it the detector kept apart, or an instance split before), is split by
+// each pixel's nearest person; other instances take the person nearest on
+// most of their rays; instances no ray of which meets a person, and pixels farther than
 // occupancy_fill_fraction x height from any ray that meets one, become
 // background. Ids are the same person in every view of the time step
 // (ordered along the grid's first axis, then second, of their peaks), not

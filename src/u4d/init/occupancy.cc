@@ -602,9 +602,11 @@ bool UndoOverlappingSplits(const std::vector<std::vector<int>>& splits,
 //     rays whose nearest person is that person, then, for people still
 //     unpaired, by rays crossing them at all (a person behind another's fat
 //     hull is crossed, not first);
-//  2. a paired instance in which another person unpaired in this view is
-//     the nearest on at least min_split_share x as many rays as its own
-//     person is a merge: its pixels take their nearest person among those;
+//  2. a paired instance in which another person is the nearest on at least
+//     min_split_share x as many rays as its own person, and on more rays
+//     than in the instance that person holds most so far (its pair, or one
+//     split before), is a merge: its pixels take their nearest person among
+//     those;
 //  3. other instances (fragments) take the person nearest on most of their
 //     rays; instances no ray of which crosses a person are dropped, and so
 //     are pixels farther than occupancy_fill_fraction x height from any
@@ -642,15 +644,21 @@ cv::Mat NameInstances(const cv::Mat& inst, const std::vector<Ray>& rays, cv::Siz
     for (const Entry& e : entries)
       if (!person_of[e.i] && !paired[e.k]) person_of[e.i] = e.k, paired[e.k] = 1;
   }
+  // Rays on which each person is nearest in the instance it holds most of (its
+  // pair, then the instances split by it): a person whose pair is a fragment
+  // (a foot, a hand) has most of its rays in the instance it merged with.
+  std::vector<int> held(np, 0);
+  for (int i = 1; i < ni; ++i)
+    if (person_of[i]) held[person_of[i]] = std::max(held[person_of[i]], first[i][person_of[i]]);
   std::vector<std::vector<uint8_t>> split(ni, std::vector<uint8_t>(np, 0));
   for (int i = 1; i < ni; ++i) {
     if (person_of[i]) {
       for (int k = 1; k < np; ++k)
-        split[i][k] =
-            k == person_of[i] ||
-            (!paired[k] && first[i][k] >= options.ground.min_split_share * first[i][person_of[i]]);
+        split[i][k] = k == person_of[i] ||
+                      (first[i][k] > held[k] &&
+                       first[i][k] >= options.ground.min_split_share * first[i][person_of[i]]);
       for (int k = 1; k < np; ++k)
-        if (k != person_of[i] && split[i][k]) paired[k] = 2;  // paired by the split
+        if (k != person_of[i] && split[i][k]) held[k] = first[i][k];  // held by the split
     } else {
       person_of[i] = static_cast<int>(std::max_element(first[i].begin() + 1, first[i].end()) -
                                       first[i].begin());
