@@ -416,9 +416,9 @@ cv::Mat FillStillSubjects(const cv::Mat& image_bgr, const cv::Mat& foreground,
 // any instance that person already holds (its pair, which may be a scrap of
 // it the detector kept apart, or an instance split before), is split by
 // each pixel's nearest person; other instances take the person nearest on
-// most of their rays; instances no ray of which meets a person, and pixels farther than
-// occupancy_fill_fraction x height from any ray that meets one, become
-// background. Ids are the same person in every view of the time step
+// most of their rays; instances no ray of which meets a person, and pixels
+// farther than occupancy_fill_fraction x height from any ray that meets one,
+// become background. Ids are the same person in every view of the time step
 // (ordered along the grid's first axis, then second, of their peaks), not
 // across time steps.
 struct OccupancyMap {
