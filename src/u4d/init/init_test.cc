@@ -99,6 +99,20 @@ cv::Mat GtIds(const Capture& c, int v, int t) {
       .ids;
 }
 
+// Per GT person (`truth`, per view), the pixels each of our ids (`named`,
+// non-zero) covers, over every view but `skip_view`.
+std::map<int, std::map<int, int>> IdVotes(const std::vector<cv::Mat>& truth,
+                                          const std::vector<cv::Mat>& named, int skip_view = -1) {
+  std::map<int, std::map<int, int>> votes;  // GT id -> our id -> pixels
+  for (size_t v = 0; v < truth.size(); ++v)
+    if (static_cast<int>(v) != skip_view)
+      for (int y = 0; y < truth[v].rows; ++y)
+        for (int x = 0; x < truth[v].cols; ++x)
+          if (const int g = truth[v].at<uint16_t>(y, x))
+            if (const int id = named[v].at<uint16_t>(y, x)) ++votes[g][id];
+  return votes;
+}
+
 int CountIds(const cv::Mat& ids) {
   double mx = 0;
   cv::minMaxLoc(ids, nullptr, &mx);
@@ -651,12 +665,7 @@ TEST(InitTest, GroundOccupancySplitsTouchingPeopleByTheirInstances) {
     const std::vector<cv::Mat> named = SeparatePeopleOnGround(f.cameras, given, {}, &map, {},
                                                               /*instances_are_people=*/true);
     EXPECT_EQ(map.num_people, 2) << "frame " << t;
-    std::map<int, std::map<int, int>> votes;  // GT id -> our id -> pixels, all views
-    for (int v = 0; v < nv; ++v)
-      for (int y = 0; y < named[v].rows; ++y)
-        for (int x = 0; x < named[v].cols; ++x)
-          if (const int g = truth[v].at<uint16_t>(y, x))
-            if (const int id = named[v].at<uint16_t>(y, x)) ++votes[g][id];
+    const auto votes = IdVotes(truth, named);
     std::set<int> ids;
     for (const auto& [g, by_id] : votes) {
       int total = 0, best = 0, best_id = 0;
@@ -710,14 +719,8 @@ TEST(InitTest, GroundOccupancySplitsAMergeWhoseSecondPersonKeptAScrap) {
   const std::vector<cv::Mat> named = SeparatePeopleOnGround(f.cameras, given, {}, nullptr, {},
                                                             /*instances_are_people=*/true);
   // Each person's id: the one it holds most in the other views.
-  std::map<int, std::map<int, int>> votes;  // GT id -> our id -> pixels
-  for (int v = 0; v < nv; ++v)
-    if (v != view)
-      for (int y = 0; y < truth[v].rows; ++y)
-        for (int x = 0; x < truth[v].cols; ++x)
-          if (const int g = truth[v].at<uint16_t>(y, x)) ++votes[g][named[v].at<uint16_t>(y, x)];
   std::map<int, int> id_of;
-  for (const auto& [g, by_id] : votes)
+  for (const auto& [g, by_id] : IdVotes(truth, named, view))
     id_of[g] = std::max_element(by_id.begin(), by_id.end(), [](const auto& a, const auto& b) {
                  return a.second < b.second;
                })->first;
@@ -758,9 +761,10 @@ TEST(InitTest, GroundOccupancyDoesNotCutAPersonTheDetectorMergedInHalfTheViews) 
       "init_merged_half", synth::SmallRealisticOptions(data, 960, 540, 2)));
   const Capture capture = ReadCapture(dir);
   std::vector<Camera> cameras;
-  std::vector<cv::Mat> given;
+  std::vector<cv::Mat> given, truth;
   for (int v = 0; v < capture.NumViews(); ++v) {
     cameras.push_back(capture.views[v].CameraAt(0));
+    truth.push_back(ReadLabelImage(dir / layout::GtInstances(capture.views[v].name, 0)));
     const fs::path png = dir / layout::Mask(capture.views[v].name, 0);
     cv::Mat ids = fs::exists(png) ? ReadLabelImage(png) : cv::Mat();
     if (ids.empty()) ids = cv::Mat::zeros(cameras[v].height, cameras[v].width, CV_16UC1);
@@ -769,16 +773,8 @@ TEST(InitTest, GroundOccupancyDoesNotCutAPersonTheDetectorMergedInHalfTheViews) 
   }
   // Per GT person, the share of its named pixels (all views) under its main id.
   const auto main_id_share = [&](const std::vector<cv::Mat>& named) {
-    std::map<int, std::map<int, int>> votes;  // GT id -> our id -> pixels
-    for (int v = 0; v < capture.NumViews(); ++v) {
-      const cv::Mat truth = ReadLabelImage(dir / layout::GtInstances(capture.views[v].name, 0));
-      for (int y = 0; y < truth.rows; ++y)
-        for (int x = 0; x < truth.cols; ++x)
-          if (const int g = truth.at<uint16_t>(y, x))
-            if (const int id = named[v].at<uint16_t>(y, x)) ++votes[g][id];
-    }
     std::map<int, double> share;
-    for (const auto& [g, by_id] : votes) {
+    for (const auto& [g, by_id] : IdVotes(truth, named)) {
       int total = 0, best = 0;
       for (const auto& [id, n] : by_id) total += n, best = std::max(best, n);
       share[g] = static_cast<double>(best) / total;
