@@ -103,17 +103,23 @@ void FlowMetrics::Add(const FlowMetrics& o) {
   within_1px += o.within_1px;
   within_3px += o.within_3px;
   beyond_10px += o.beyond_10px;
+  sum_along += o.sum_along;
+  sum_true_length += o.sum_true_length;
 }
 double FlowMetrics::Epe() const { return Ratio(sum_epe, evaluated); }
 double FlowMetrics::Within1Px() const { return Ratio(within_1px, evaluated); }
 double FlowMetrics::Within3Px() const { return Ratio(within_3px, evaluated); }
 double FlowMetrics::Beyond10Px() const { return Ratio(beyond_10px, evaluated); }
+double FlowMetrics::MotionScale() const {
+  return sum_true_length > 0 ? sum_along / sum_true_length : kNaN;
+}
 double FlowMetrics::Completeness() const { return Ratio(evaluated, gt_valid); }
 nlohmann::json FlowMetrics::ToJson() const {
   return {{"epe_px", Num(Epe())},
           {"within_1px", Num(Within1Px())},
           {"within_3px", Num(Within3Px())},
           {"beyond_10px", Num(Beyond10Px())},
+          {"motion_scale", Num(MotionScale())},
           {"completeness", Num(Completeness())},
           {"gt_valid_pixels", gt_valid},
           {"evaluated_pixels", evaluated}};
@@ -153,6 +159,13 @@ FlowMetrics EvaluateFlow(const cv::Mat& pred, const cv::Mat& gt, const cv::Mat& 
       if (epe < 1.0) ++m.within_1px;
       if (epe < 3.0) ++m.within_3px;
       if (epe > 10.0) ++m.beyond_10px;
+      const double length = std::hypot(static_cast<double>(g[x][0]), g[x][1]);
+      if (length >= FlowMetrics::kMovingPx) {
+        m.sum_along +=
+            (p[x][0] * static_cast<double>(g[x][0]) + p[x][1] * static_cast<double>(g[x][1])) /
+            length;
+        m.sum_true_length += length;
+      }
     }
   }
   return m;

@@ -13,6 +13,13 @@
 // predicted-valid likewise. Evaluated pixels are valid in both.
 //   EPE         mean ||f - f*||_2, pixels
 //   within_1px / within_3px   share with EPE < 1 / < 3 pixels
+//   motion_scale  sum f . u* / sum |f*| over the evaluated pixels whose true
+//                 motion |f*| is at least kMovingPx (u* = f* / |f*|): the
+//                 predicted motion's length along the true direction relative
+//                 to the true length, pooled; 1 = unbiased, below 1 = the
+//                 motion is under-estimated (a flow shrunk towards its
+//                 neighbours' or the static background's motion). EPE does not
+//                 tell a shrunk flow from a noisy one of the same size.
 //   completeness  evaluated pixels / GT-valid pixels
 // Results hold sums so that Add() pools pixels over many images: every average
 // is over all evaluated pixels of the dataset (pixel-weighted), not a mean of
@@ -50,17 +57,24 @@ DepthMetrics EvaluateDepth(const cv::Mat& pred, const cv::Mat& gt, const cv::Mat
                            const std::string& context);
 
 struct FlowMetrics {
+  // True motions shorter than this (pixels) have no direction that
+  // motion_scale could measure against.
+  static constexpr double kMovingPx = 1.0;
+
   int64_t gt_valid = 0;
   int64_t evaluated = 0;
   double sum_epe = 0;
   int64_t within_1px = 0, within_3px = 0;
-  int64_t beyond_10px = 0;  // gross errors: endpoint error above 10 px
+  int64_t beyond_10px = 0;     // gross errors: endpoint error above 10 px
+  double sum_along = 0;        // f . u* over the moving pixels (motion_scale)
+  double sum_true_length = 0;  // |f*| over the same pixels
 
   void Add(const FlowMetrics& o);
   double Epe() const;  // NaN when nothing was evaluated (likewise below)
   double Within1Px() const;
   double Within3Px() const;
-  double Beyond10Px() const;  // share of the evaluated pixels off by more than 10 px
+  double Beyond10Px() const;   // share of the evaluated pixels off by more than 10 px
+  double MotionScale() const;  // NaN when no evaluated pixel moves kMovingPx or more
   double Completeness() const;
   nlohmann::json ToJson() const;
 };

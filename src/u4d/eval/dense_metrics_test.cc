@@ -79,5 +79,29 @@ TEST(Flow, HandEpe) {
   EXPECT_THROW(EvaluateFlow(cv::Mat(2, 2, CV_32FC2), gt, {}, {}, "x"), Error);
 }
 
+TEST(Flow, MotionScaleTellsAShrunkFlowFromANoisyOne) {
+  // Truth: a 10 px motion to the right on 4 pixels, a 0.5 px one (too short
+  // to have a direction that counts) on a fifth.
+  cv::Mat gt(1, 5, CV_32FC2, cv::Scalar(10, 0));
+  gt.at<cv::Vec2f>(0, 4) = {0.5f, 0};
+  // The motion shrunk by a fifth: EPE 2 on the moving pixels.
+  cv::Mat shrunk = gt * 0.8;
+  shrunk.at<cv::Vec2f>(0, 4) = {-3, 0};  // whatever the short one does, it does not count
+  EXPECT_NEAR(EvaluateFlow(shrunk, gt, {}, {}, "test").MotionScale(), 0.8, 1e-9);
+  // The same EPE across the motion, half up and half down: no bias.
+  cv::Mat noisy = gt.clone();
+  for (int x = 0; x < 4; ++x) noisy.at<cv::Vec2f>(0, x)[1] = x % 2 ? 2.f : -2.f;
+  const FlowMetrics m = EvaluateFlow(noisy, gt, {}, {}, "test");
+  EXPECT_NEAR(m.MotionScale(), 1.0, 1e-9);
+  EXPECT_NEAR(m.Epe(), 1.6, 1e-6);  // 4 x 2 px over 5 pixels
+  // Pooled over images by their true lengths: 0.8 x 40 + 1.0 x 40 over 80.
+  FlowMetrics both = EvaluateFlow(shrunk, gt, {}, {}, "test");
+  both.Add(m);
+  EXPECT_NEAR(both.MotionScale(), 0.9, 1e-9);
+  // A still scene has no motion to scale.
+  const cv::Mat still(1, 2, CV_32FC2, cv::Scalar(0, 0));
+  EXPECT_TRUE(std::isnan(EvaluateFlow(still, still, {}, {}, "test").MotionScale()));
+}
+
 }  // namespace
 }  // namespace u4d::eval

@@ -508,6 +508,7 @@ std::string EvalReport::FormatTable() const {
     row("EPE < 1 px", f.Within1Px(), "");
     row("EPE < 3 px", f.Within3Px(), "");
     row("EPE > 10 px", f.Beyond10Px(), "");
+    row("motion scale", f.MotionScale(), "(1 = unbiased)");
     row("completeness", f.Completeness(), "");
   };
   if (flow) flow_rows("flow (all pixels)", *flow);
