@@ -29,8 +29,9 @@ cv::Mat Relabel(const cv::Mat& ids, const std::map<int, int>& new_id) {
 }
 
 // (distance, per-frame object, track id) of the pairs that may be one
-// object: alike labels, and within the centroid jump (continuous frames) or
-// the appearance distance (after a cut).
+// object: alike labels, and within the centroid jump (continuous frames);
+// after a cut, every pair whose colours are known (UnambiguousPairs then
+// keeps those within the appearance distance that no rival comes near).
 using LinkPairs = std::vector<std::tuple<double, int, int>>;
 LinkPairs CandidatePairs(const std::map<int, Eigen::Vector3d>& centroids,
                          const std::map<int, ObjectAppearance>& appearances,
@@ -43,8 +44,7 @@ LinkPairs CandidatePairs(const std::map<int, Eigen::Vector3d>& centroids,
       if (linker.after_cut) {
         const auto a = appearances.find(k);
         if (a == appearances.end() || track.appearance.pixels <= 0) continue;
-        const double d = AppearanceDistance(a->second, track.appearance);
-        if (d <= linker.options.max_appearance_distance) pairs.emplace_back(d, k, id);
+        pairs.emplace_back(AppearanceDistance(a->second, track.appearance), k, id);
       } else {
         const double d = (c - track.position).norm();
         if (d <= linker.options.max_centroid_jump_m * (1 + track.missing))
@@ -52,6 +52,21 @@ LinkPairs CandidatePairs(const std::map<int, Eigen::Vector3d>& centroids,
       }
     }
   return pairs;
+}
+
+// The pairs of an appearance link (after a cut) within `max_distance` that
+// no rival comes near: every other pair of the same object or of the same
+// track is at least `margin` farther (ObjectLinkOptions; 0 = all of them).
+LinkPairs UnambiguousPairs(const LinkPairs& pairs, double max_distance, double margin) {
+  LinkPairs kept;
+  for (const auto& [d, k, id] : pairs) {
+    const bool rivalled = std::any_of(pairs.begin(), pairs.end(), [&](const auto& other) {
+      const auto& [e, other_k, other_id] = other;
+      return (other_k == k) != (other_id == id) && e < d + margin;
+    });
+    if (d <= max_distance && (margin <= 0 || !rivalled)) kept.emplace_back(d, k, id);
+  }
+  return kept;
 }
 
 // Mask id k is object k in every view where it occurs.
@@ -130,6 +145,9 @@ std::map<int, int> LinkObjects(const std::map<int, Eigen::Vector3d>& centroids,
     return it == labels.end() ? std::string() : it->second;
   };
   LinkPairs pairs = CandidatePairs(centroids, appearances, label_of, *linker);
+  if (linker->after_cut)
+    pairs = UnambiguousPairs(pairs, linker->options.max_appearance_distance,
+                             linker->options.min_appearance_margin);
   std::sort(pairs.begin(), pairs.end());
   std::map<int, int> link;
   std::set<int> taken;
@@ -165,6 +183,9 @@ void ObjectLinkOptions::Check() const {
   U4D_CHECK(max_appearance_distance >= 0 && std::isfinite(max_appearance_distance),
             "ObjectLinkOptions.max_appearance_distance must be finite and >= 0, got {}",
             max_appearance_distance);
+  U4D_CHECK(min_appearance_margin >= 0 && std::isfinite(min_appearance_margin),
+            "ObjectLinkOptions.min_appearance_margin must be finite and >= 0, got {}",
+            min_appearance_margin);
 }
 
 cv::Mat KeepGivenPixels(const cv::Mat& given, const cv::Mat& named) {

@@ -35,7 +35,8 @@
 // far apart in the source, RunOptions::max_frame_gap_s) positions say
 // nothing: an object takes the id of the tracked object whose colours are
 // nearest (features/object_appearance.h; greedy, nearest pairs first) within
-// max_appearance_distance, else a new id.
+// max_appearance_distance when no other track or object is within
+// min_appearance_margin of that distance, else a new id.
 //
 // Files (io/layout.h): initial/masks/<view>/<frame>.png (16-bit ids, an
 // absent file = no mask in that view) and initial/objects/<frame>.json
@@ -86,6 +87,16 @@ struct ObjectLinkOptions {
   // at a glance (2.3 is the smallest difference an eye sees); one person's
   // colours change less between views and instants under the same light.
   double max_appearance_distance = 10.0;
+  // ... and only when no rival comes near: every other track within this
+  // (Delta E) of the object's distance to the track, or another object
+  // within it of the track's, makes the link ambiguous, and the object takes
+  // a new id. 2.3, the smallest difference an eye sees: a rival nearer than
+  // that is as much that person by colour. People dressed alike (dark
+  // clothes in a studio) lie a few Delta E from each other, and a link
+  // taken at chance is a wrong one: one id for two people merges their
+  // tracks and meshes, which a new id for a person seen before does not.
+  // 0 = the nearest pairs are linked first, whatever their rivals.
+  double min_appearance_margin = 2.3;
 
   void Check() const;  // throws u4d::Error naming the field on a bad value
 };
@@ -113,7 +124,8 @@ void CutLinker(ObjectLinker* linker);
 // Per-frame object k (keys of `centroids`, world; `appearances` and
 // `labels` of the same keys, each may lack some) -> its id, updating the
 // linker's tracks as above: nearest tracked centroid, or after a cut
-// (linker->after_cut, then cleared) nearest colours; else a new id.
+// (linker->after_cut, then cleared) nearest colours that no rival comes
+// near (ObjectLinkOptions); else a new id.
 std::map<int, int> LinkObjects(const std::map<int, Eigen::Vector3d>& centroids,
                                const std::map<int, ObjectAppearance>& appearances,
                                const std::map<int, std::string>& labels, ObjectLinker* linker);

@@ -252,3 +252,58 @@ TEST(ObjectsFromSparseTest, AfterACutEachPersonTakesBackItsIdByItsColours) {
 
 }  // namespace
 }  // namespace u4d
+
+namespace u4d {
+namespace {
+
+ObjectAppearance Wearing(Eigen::Vector3d upper, Eigen::Vector3d lower) {
+  return {upper, lower, 1000};
+}
+
+// Across a cut, colours that do not single out one tracked person link
+// nothing (ObjectLinkOptions::min_appearance_margin). Before the cut: A in a
+// red shirt and jeans, B and C in dark clothes. After it: A again (1 Delta E
+// off, as between instants under the same light) and two people who were
+// not there before, D and E, dressed in dark clothes too (a studio's next
+// take, the Panoptic demo's instants). D is 1.6 Delta E from B and 2.8
+// from C: by colour it could be either or neither. Linked nearest first, D
+// and E would take B's and C's ids, one id for two people each; A takes
+// its id back either way.
+TEST(LinkObjectsTest, AfterACutPeopleDressedAlikeTakeNewIdsAndADistinctOneItsOwn) {
+  const ObjectAppearance a = Wearing({50, 60, 40}, {30, 0, -20});
+  const ObjectAppearance b = Wearing({20, 0, 0}, {25, 0, 0});
+  const ObjectAppearance c = Wearing({22, 2, -2}, {24, 1, 1});
+  const std::map<int, Eigen::Vector3d> three = {
+      {1, Eigen::Vector3d(0, 0, 0)}, {2, Eigen::Vector3d(1, 0, 0)}, {3, Eigen::Vector3d(2, 0, 0)}};
+  auto run = [&](double margin) {
+    ObjectLinker linker;
+    linker.options.min_appearance_margin = margin;
+    const std::map<int, int> before = LinkObjects(three, {{1, a}, {2, b}, {3, c}}, {}, &linker);
+    CutLinker(&linker);
+    const ObjectAppearance a_again = Wearing({51, 60, 40}, {31, 0, -20});
+    const ObjectAppearance d = Wearing({21, 1, 1}, {26, 0, 1});
+    const ObjectAppearance e = Wearing({23, -1, 0}, {24, 2, -1});
+    const std::map<int, int> after =
+        LinkObjects(three, {{1, d}, {2, a_again}, {3, e}}, {}, &linker);
+    // Truth: after-cut object 2 is before-cut object 1; 1 and 3 are new.
+    EXPECT_EQ(after.at(2), before.at(1));
+    return std::pair(after.at(1), after.at(3));
+  };
+  const auto [d_id, e_id] = run(ObjectLinkOptions{}.min_appearance_margin);
+  EXPECT_GT(d_id, 3) << "D took the id of a person seen before the cut";
+  EXPECT_GT(e_id, 3) << "E took the id of a person seen before the cut";
+  EXPECT_NE(d_id, e_id);
+  // Nearest pairs first (margin 0) links both to the people in dark clothes.
+  const auto [d_greedy, e_greedy] = run(0);
+  EXPECT_LE(d_greedy, 3);
+  EXPECT_LE(e_greedy, 3);
+}
+
+TEST(LinkObjectsTest, ANegativeMarginIsRefused) {
+  ObjectLinkOptions options;
+  options.min_appearance_margin = -1;
+  EXPECT_THROW(options.Check(), Error);
+}
+
+}  // namespace
+}  // namespace u4d

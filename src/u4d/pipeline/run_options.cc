@@ -118,6 +118,9 @@ void DeclareOptions(OptionRegistry& r, ObjectLinkOptions* o) {
   r.Add("max_appearance_distance", &o->max_appearance_distance,
         "across a cut in time, an object whose colours differ from a tracked one's by at most "
         "this (Delta E) is that object; 0 = a cut forgets every object");
+  r.Add("min_appearance_margin", &o->min_appearance_margin,
+        "... unless another tracked object or another object is within this (Delta E) of that "
+        "distance: an ambiguous link gives a new id; 0 = nearest pairs first");
 }
 
 void DeclareOptions(OptionRegistry& r, UnlabelledObjectOptions* o) {
