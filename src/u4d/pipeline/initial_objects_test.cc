@@ -250,12 +250,6 @@ TEST(ObjectsFromSparseTest, AfterACutEachPersonTakesBackItsIdByItsColours) {
   EXPECT_GE(id_of(anew, last, 2), 3);
 }
 
-}  // namespace
-}  // namespace u4d
-
-namespace u4d {
-namespace {
-
 ObjectAppearance Wearing(Eigen::Vector3d upper, Eigen::Vector3d lower) {
   return {upper, lower, 1000};
 }
