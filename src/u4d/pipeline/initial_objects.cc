@@ -60,11 +60,12 @@ LinkPairs CandidatePairs(const std::map<int, Eigen::Vector3d>& centroids,
 LinkPairs UnambiguousPairs(const LinkPairs& pairs, double max_distance, double margin) {
   LinkPairs kept;
   for (const auto& [d, k, id] : pairs) {
-    const bool rivalled = std::any_of(pairs.begin(), pairs.end(), [&](const auto& other) {
-      const auto& [e, other_k, other_id] = other;
-      return (other_k == k) != (other_id == id) && e < d + margin;
-    });
-    if (d <= max_distance && (margin <= 0 || !rivalled)) kept.emplace_back(d, k, id);
+    if (d > max_distance) continue;
+    const bool rivalled = margin > 0 && std::any_of(pairs.begin(), pairs.end(), [&](const auto& o) {
+                            const auto& [e, other_k, other_id] = o;
+                            return (other_k == k) != (other_id == id) && e < d + margin;
+                          });
+    if (!rivalled) kept.emplace_back(d, k, id);
   }
   return kept;
 }
