@@ -200,6 +200,16 @@ void DeclareOptions(OptionRegistry& r, LabelCostOptions* o) {
         "colour samples used to fit a GMM (random subset)");
   r.Add("background_band_px", &o->background_band_px,
         "background samples: within this distance of the ROI's objects");
+  r.Add("colour_bands", &o->colour_bands,
+        "E_a's colour models per horizontal band of the objects' rows: the band's models decide "
+        "object or background, the whole ones which object (a shoe is a small share of a person's "
+        "colours; 1 = one model per label: a part the view's mask lacks is a large share of its "
+        "band's background, and the other views no longer bring it back)");
+  r.Add("max_samples_per_band", &o->max_samples_per_band,
+        "colour samples used to fit a band's GMM (random subset)");
+  r.Add("min_band_samples", &o->min_band_samples,
+        "a band's model of a label needs this many of the view's own samples in it (else the "
+        "label's whole model)");
   r.Add("appearance_inset_px", &o->appearance_inset_px,
         "colour samples only from pixels at least this far inside their label's initial mask; 0 = "
         "every pixel");

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <random>
 
@@ -265,23 +266,38 @@ void LabelCostOptions::Check() const {
   U4D_CHECK(mask_softness_px > 0, "LabelCostOptions.mask_softness_px must be > 0");
   U4D_CHECK(appearance_inset_px >= 0, "LabelCostOptions.appearance_inset_px must be >= 0, got {}",
             appearance_inset_px);
+  U4D_CHECK(colour_bands >= 1, "LabelCostOptions.colour_bands must be >= 1, got {}", colour_bands);
+  U4D_CHECK(max_samples_per_band >= 16, "LabelCostOptions.max_samples_per_band must be >= 16");
+  U4D_CHECK(min_band_samples >= 1, "LabelCostOptions.min_band_samples must be >= 1, got {}",
+            min_band_samples);
   U4D_CHECK(min_probability > 0 && min_probability < 1,
             "LabelCostOptions.min_probability must be in (0, 1), got {}", min_probability);
 }
 
-LabelCostVolume AppearanceCosts(const cv::Mat& image, const std::vector<LabelledImage>& training,
-                                int num_labels,
-                                const std::vector<std::vector<Eigen::Vector2d>>& markers,
-                                const LabelCostOptions& options, const cv::Mat& where) {
-  options.Check();
-  U4D_CHECK(image.type() == CV_8UC3, "AppearanceCosts: image must be BGR 8-bit");
-  U4D_CHECK(num_labels >= 1, "AppearanceCosts: need at least one label");
-  U4D_CHECK(where.empty() || (where.size() == image.size() && where.type() == CV_8UC1),
-            "AppearanceCosts: `where` must be CV_8U {}x{}", image.cols, image.rows);
-  // Samples per label from the temporal neighbourhood's masks. Background
-  // samples come from a band around the objects: that is the background the
-  // objects' pixels compete with.
-  std::vector<std::vector<cv::Vec3b>> samples(num_labels);
+namespace {
+
+// A colour sample of a label, with the image row it came from (-1: another
+// view's, which has no row in this image and serves every band).
+struct ColourSample {
+  cv::Vec3b colour;
+  int row = -1;
+};
+
+struct ColourSamples {
+  std::vector<std::vector<ColourSample>> per_label;
+  int top = 0, bottom = -1;  // the rows the objects span in the view's own maps
+};
+
+// Samples per label from the temporal neighbourhood's masks. Background
+// samples come from a band around the objects: that is the background the
+// objects' pixels compete with.
+ColourSamples CollectColourSamples(const cv::Mat& image, const std::vector<LabelledImage>& training,
+                                   int num_labels,
+                                   const std::vector<std::vector<Eigen::Vector2d>>& markers,
+                                   const LabelCostOptions& options) {
+  ColourSamples out;
+  out.per_label.resize(num_labels);
+  out.top = image.rows;
   for (const LabelledImage& t : training) {
     U4D_CHECK(t.image.size() == image.size() && t.labels.size() == image.size() &&
                   t.labels.type() == CV_16UC1 && t.image.type() == CV_8UC3,
@@ -298,43 +314,141 @@ LabelCostVolume AppearanceCosts(const cv::Mat& image, const std::vector<Labelled
     for (int y = 0; y < image.rows; ++y)
       for (int x = 0; x < image.cols; ++x) {
         const int l = t.labels.at<uint16_t>(y, x);
-        if (l >= num_labels || !sure.at<uint8_t>(y, x)) continue;
+        if (l >= num_labels) continue;
+        if (l > 0 && !t.other_view)
+          out.top = std::min(out.top, y), out.bottom = std::max(out.bottom, y);
+        if (!sure.at<uint8_t>(y, x)) continue;
         if (l == 0 && (band.empty() || !band.at<uint8_t>(y, x))) continue;
-        samples[l].push_back(t.image.at<cv::Vec3b>(y, x));
+        out.per_label[l].push_back({t.image.at<cv::Vec3b>(y, x), t.other_view ? -1 : y});
       }
   }
   for (int l = 0; l < num_labels && l < static_cast<int>(markers.size()); ++l)
     for (const Eigen::Vector2d& m : markers[l]) {
       const int x = static_cast<int>(std::lround(m.x())), y = static_cast<int>(std::lround(m.y()));
       if (x < 0 || y < 0 || x >= image.cols || y >= image.rows) continue;
-      samples[l].push_back(image.at<cv::Vec3b>(y, x));
+      out.per_label[l].push_back({image.at<cv::Vec3b>(y, x), y});
     }
-  std::mt19937_64 rng(options.seed);
-  std::vector<ColorGmm> gmms(num_labels);
-  for (int l = 0; l < num_labels; ++l) {
-    auto& s = samples[l];
-    if (s.empty()) continue;
-    if (static_cast<int>(s.size()) > options.max_samples_per_label) {
-      std::shuffle(s.begin(), s.end(), rng);
-      s.resize(options.max_samples_per_label);
-    }
-    gmms[l] = FitColorGmm(s, options.gmm_components, options.seed + l);
+  return out;
+}
+
+// Horizontal bands of equal height over the objects' rows. Band b holds the
+// samples within one band height of its centre (it overlaps each neighbour
+// by half of it); a row takes the band whose centre is nearest.
+struct ColourBands {
+  int count = 1;
+  double top = 0, height = 1;
+  double Centre(int b) const { return top + (b + 0.5) * height; }
+  bool Holds(int b, int row) const { return row < 0 || std::abs(row - Centre(b)) <= height; }
+  int Of(int row) const {
+    return std::clamp(static_cast<int>(std::floor((row - top) / height)), 0, count - 1);
   }
+};
+
+// A random subset of at most `cap` colours (drawn with `rng`), fitted.
+ColorGmm FitSubset(std::vector<cv::Vec3b> colours, int cap, int components, uint64_t seed,
+                   std::mt19937_64* rng) {
+  if (colours.empty()) return {};
+  if (static_cast<int>(colours.size()) > cap) {
+    std::shuffle(colours.begin(), colours.end(), *rng);
+    colours.resize(cap);
+  }
+  return FitColorGmm(colours, components, seed);
+}
+
+// The colour models: whole[l] from all of label l's samples, band[b][l] from
+// band b's (label l's whole model where the band holds fewer than
+// min_band_samples of the view's own). With one band only the whole models.
+struct ColourModels {
+  std::vector<ColorGmm> whole;
+  std::vector<std::vector<ColorGmm>> band;
+};
+
+ColourModels FitColourModels(const ColourSamples& samples, const ColourBands& bands,
+                             const LabelCostOptions& options) {
+  const int num_labels = static_cast<int>(samples.per_label.size());
+  ColourModels models;
+  models.whole.resize(num_labels);
+  std::mt19937_64 rng(options.seed);
+  for (int l = 0; l < num_labels; ++l) {
+    std::vector<cv::Vec3b> colours;
+    for (const ColourSample& s : samples.per_label[l]) colours.push_back(s.colour);
+    models.whole[l] = FitSubset(std::move(colours), options.max_samples_per_label,
+                                options.gmm_components, options.seed + l, &rng);
+  }
+  if (bands.count == 1) return models;
+  models.band.assign(bands.count, models.whole);
+  std::mt19937_64 band_rng(options.seed + 1);
+  for (int b = 0; b < bands.count; ++b)
+    for (int l = 0; l < num_labels; ++l) {
+      std::vector<cv::Vec3b> colours;
+      int own = 0;
+      for (const ColourSample& s : samples.per_label[l])
+        if (bands.Holds(b, s.row)) colours.push_back(s.colour), own += s.row >= 0;
+      if (own < options.min_band_samples) continue;
+      models.band[b][l] = FitSubset(std::move(colours), options.max_samples_per_band,
+                                    options.gmm_components, options.seed + l, &band_rng);
+    }
+  return models;
+}
+
+// −log P(c | l) for every label at a pixel of band b (above AppearanceCosts)
+// into cost[l * stride]; `whole` is scratch space for num_labels values.
+void PixelAppearance(const ColourModels& models, int b, const cv::Vec3b& c, float* cost,
+                     size_t stride, double* whole) {
+  const int num_labels = static_cast<int>(models.whole.size());
+  constexpr float kNone = std::numeric_limits<float>::max() / 4;
+  if (models.band.empty()) {
+    for (int l = 0; l < num_labels; ++l)
+      cost[l * stride] =
+          models.whole[l].Empty() ? kNone : static_cast<float>(-models.whole[l].LogLikelihood(c));
+    return;
+  }
+  const std::vector<ColorGmm>& local = models.band[b];
+  cost[0] = local[0].Empty() ? kNone : static_cast<float>(-local[0].LogLikelihood(c));
+  double foreground = -std::numeric_limits<double>::infinity(), best_whole = foreground;
+  for (int l = 1; l < num_labels; ++l) {
+    if (models.whole[l].Empty()) continue;
+    foreground = std::max(foreground, local[l].LogLikelihood(c));
+    whole[l] = models.whole[l].LogLikelihood(c);
+    best_whole = std::max(best_whole, whole[l]);
+  }
+  for (int l = 1; l < num_labels; ++l)
+    cost[l * stride] =
+        models.whole[l].Empty() ? kNone : static_cast<float>(-(foreground + whole[l] - best_whole));
+}
+
+}  // namespace
+
+LabelCostVolume AppearanceCosts(const cv::Mat& image, const std::vector<LabelledImage>& training,
+                                int num_labels,
+                                const std::vector<std::vector<Eigen::Vector2d>>& markers,
+                                const LabelCostOptions& options, const cv::Mat& where) {
+  options.Check();
+  U4D_CHECK(image.type() == CV_8UC3, "AppearanceCosts: image must be BGR 8-bit");
+  U4D_CHECK(num_labels >= 1, "AppearanceCosts: need at least one label");
+  U4D_CHECK(where.empty() || (where.size() == image.size() && where.type() == CV_8UC1),
+            "AppearanceCosts: `where` must be CV_8U {}x{}", image.cols, image.rows);
+  const ColourSamples samples = CollectColourSamples(image, training, num_labels, markers, options);
+  ColourBands bands;
+  if (samples.bottom >= samples.top && options.colour_bands > 1) {
+    bands.count = options.colour_bands;
+    bands.top = samples.top;
+    bands.height = static_cast<double>(samples.bottom - samples.top + 1) / bands.count;
+  }
+  const ColourModels models = FitColourModels(samples, bands, options);
   LabelCostVolume volume{image.cols, image.rows, num_labels, {}};
   const size_t n = static_cast<size_t>(image.cols) * image.rows;
   volume.cost.assign(n * num_labels, 0.f);
-  const double floor_nll = -std::log(options.min_probability);
   tbb::parallel_for(0, image.rows, [&](int y) {
+    const int b = bands.Of(y);
+    std::vector<double> scratch(num_labels);
     for (int x = 0; x < image.cols; ++x) {
       if (!where.empty() && !where.at<uint8_t>(y, x)) continue;
       const size_t p = static_cast<size_t>(y) * image.cols + x;
-      const cv::Vec3b c = image.at<cv::Vec3b>(y, x);
-      for (int l = 0; l < num_labels; ++l)
-        volume.cost[l * n + p] = gmms[l].Empty() ? std::numeric_limits<float>::max() / 4
-                                                 : static_cast<float>(-gmms[l].LogLikelihood(c));
+      PixelAppearance(models, b, image.at<cv::Vec3b>(y, x), &volume.cost[p], n, scratch.data());
     }
   });
-  NormaliseToBest(floor_nll, &volume);
+  NormaliseToBest(-std::log(options.min_probability), &volume);
   return volume;
 }
 

@@ -7,6 +7,22 @@
 //   (10 components, as the paper), learned from the initial masks of the
 //   temporal neighbourhood ψ_T (frames t−1, t, t+1 of the view) plus the
 //   sparse foreground markers (projected sparse 3D points of the object).
+//   The models can be local in height (`colour_bands`): a person's shoes or
+//   hands are a small share of their colours, and the floor beside them a
+//   large share of the background's, so one model over the whole person
+//   gives the shoes so little weight that E_a takes them even from true
+//   masks. With B > 1 bands of equal height over the rows the view's objects
+//   span (each fitted from the samples within one band height of its centre,
+//   so neighbours overlap), a pixel's object-or-background odds are those of
+//   its band's models: the best object's band likelihood against the
+//   background's. Which object is decided by the objects' whole models,
+//   which hold each person's every colour: where a detector merged two
+//   people the merged pixels are a large share of one band of the one
+//   person, and a small share of the whole. So for object l at colour c in
+//   band b: −log( max_k P_b(c | k) · P(c | l) / max_k P(c | k) ); for the
+//   background −log P_b(c | 0). A band with too few samples of a label's
+//   own uses the label's whole model. Off by default (one band): a part
+//   the view's mask lacks is then a large share of its band's background.
 // E_sem(l) — semantic: −log P_sem(l | p) where P_sem is a soft version of the
 //   initial instance masks: a logistic function of the signed distance to each
 //   label's mask boundary, floored at `min_probability` and normalised over
@@ -51,6 +67,15 @@ struct LabelCostOptions {
   int gmm_components = 10;           // paper: GMMs with 10 components
   int max_samples_per_label = 4000;  // colour samples used to fit a GMM (random subset)
   int background_band_px = 25;  // background samples: within this distance of the ROI's objects
+  // E_a's bands in height (above; 1 = one model per label, the paper's).
+  // Off by default: a part the view's mask lacks (a head cut off, a person
+  // missed) is then a large share of its band's background samples, and the
+  // other views' hull no longer brings it back (docs/joint.md).
+  int colour_bands = 1;
+  int max_samples_per_band = 1000;  // colour samples used to fit a band's GMM (random subset)
+  // A band's model of a label needs this many of the view's own samples in
+  // the band (else the label's whole model): ~20 per component of a 10-GMM.
+  int min_band_samples = 200;
   // Colour samples only from pixels at least this far inside their label's
   // initial mask (the band where a detector's mask boundary errs: a dilated
   // mask's rim is background colour); 0 = every pixel.
