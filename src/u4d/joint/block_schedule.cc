@@ -55,7 +55,8 @@ struct LabelBlock : mrf::GridEnergy {
 // a pixel keeps its depth while it keeps its block-start label, and takes
 // carried[l][p] (the depth of the nearest pixel that had label l at the block
 // start) when it takes another label l, so a moved boundary continues the
-// expanding region's surface. The depth is a function of the label, so this
+// expanding region's surface (U where that depth is not allowed at the
+// pixel). The depth is a function of the label, so this
 // is an energy over labels alone; DepthOf gives the depth to store after the
 // moves.
 struct LabelDepthBlock : mrf::GridEnergy {
@@ -67,7 +68,11 @@ struct LabelDepthBlock : mrf::GridEnergy {
                   const std::vector<std::vector<int>>& c)
       : energy(e), state(labelling), start_labels(l0), carried(c) {}
   int DepthOf(int p, int label) const {
-    return label == start_labels[p] ? state.depths[p] : carried[label][p];
+    if (label == start_labels[p]) return state.depths[p];
+    // A depth the pixel may not take (depth_object_ranges: the label's
+    // region does not hold the pixel) is not carried there: U.
+    const int d = carried[label][p];
+    return energy.DepthAllowed(p, d) ? d : energy.unknown;
   }
   double Unary(int p, int label) const override {
     const int depth = DepthOf(p, label);
