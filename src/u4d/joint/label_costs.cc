@@ -276,15 +276,11 @@ void LabelCostOptions::Check() const {
 
 namespace {
 
-// A colour sample of a label, with the image row it came from (-1: another
-// view's, which has no row in this image and serves every band).
-struct ColourSample {
-  cv::Vec3b colour;
-  int row = -1;
-};
-
+// Each label's colour samples and, with bands, the image row each came from
+// (-1: another view's, which has no row in this image and serves every band).
 struct ColourSamples {
-  std::vector<std::vector<ColourSample>> per_label;
+  std::vector<std::vector<cv::Vec3b>> colours;
+  std::vector<std::vector<int>> rows;
   int top = 0, bottom = -1;  // the rows the objects span in the view's own maps
 };
 
@@ -295,8 +291,10 @@ ColourSamples CollectColourSamples(const cv::Mat& image, const std::vector<Label
                                    int num_labels,
                                    const std::vector<std::vector<Eigen::Vector2d>>& markers,
                                    const LabelCostOptions& options) {
+  const bool keep_rows = options.colour_bands > 1;  // only the bands read them
   ColourSamples out;
-  out.per_label.resize(num_labels);
+  out.colours.resize(num_labels);
+  out.rows.resize(num_labels);
   out.top = image.rows;
   for (const LabelledImage& t : training) {
     U4D_CHECK(t.image.size() == image.size() && t.labels.size() == image.size() &&
@@ -319,14 +317,16 @@ ColourSamples CollectColourSamples(const cv::Mat& image, const std::vector<Label
           out.top = std::min(out.top, y), out.bottom = std::max(out.bottom, y);
         if (!sure.at<uint8_t>(y, x)) continue;
         if (l == 0 && (band.empty() || !band.at<uint8_t>(y, x))) continue;
-        out.per_label[l].push_back({t.image.at<cv::Vec3b>(y, x), t.other_view ? -1 : y});
+        out.colours[l].push_back(t.image.at<cv::Vec3b>(y, x));
+        if (keep_rows) out.rows[l].push_back(t.other_view ? -1 : y);
       }
   }
   for (int l = 0; l < num_labels && l < static_cast<int>(markers.size()); ++l)
     for (const Eigen::Vector2d& m : markers[l]) {
       const int x = static_cast<int>(std::lround(m.x())), y = static_cast<int>(std::lround(m.y()));
       if (x < 0 || y < 0 || x >= image.cols || y >= image.rows) continue;
-      out.per_label[l].push_back({image.at<cv::Vec3b>(y, x), y});
+      out.colours[l].push_back(image.at<cv::Vec3b>(y, x));
+      if (keep_rows) out.rows[l].push_back(y);
     }
   return out;
 }
@@ -358,36 +358,37 @@ ColorGmm FitSubset(std::vector<cv::Vec3b> colours, int cap, int components, uint
 // The colour models: whole[l] from all of label l's samples, band[b][l] from
 // band b's (label l's whole model where the band holds fewer than
 // min_band_samples of the view's own). With one band only the whole models.
+// The whole models take the samples (their subsets are drawn in place).
 struct ColourModels {
   std::vector<ColorGmm> whole;
   std::vector<std::vector<ColorGmm>> band;
 };
 
-ColourModels FitColourModels(const ColourSamples& samples, const ColourBands& bands,
+ColourModels FitColourModels(ColourSamples samples, const ColourBands& bands,
                              const LabelCostOptions& options) {
-  const int num_labels = static_cast<int>(samples.per_label.size());
+  const int num_labels = static_cast<int>(samples.colours.size());
   ColourModels models;
-  models.whole.resize(num_labels);
-  std::mt19937_64 rng(options.seed);
-  for (int l = 0; l < num_labels; ++l) {
-    std::vector<cv::Vec3b> colours;
-    for (const ColourSample& s : samples.per_label[l]) colours.push_back(s.colour);
-    models.whole[l] = FitSubset(std::move(colours), options.max_samples_per_label,
-                                options.gmm_components, options.seed + l, &rng);
-  }
-  if (bands.count == 1) return models;
-  models.band.assign(bands.count, models.whole);
+  models.band.assign(bands.count == 1 ? 0 : bands.count, std::vector<ColorGmm>(num_labels));
   std::mt19937_64 band_rng(options.seed + 1);
-  for (int b = 0; b < bands.count; ++b)
+  for (int b = 0; b < static_cast<int>(models.band.size()); ++b)
     for (int l = 0; l < num_labels; ++l) {
       std::vector<cv::Vec3b> colours;
       int own = 0;
-      for (const ColourSample& s : samples.per_label[l])
-        if (bands.Holds(b, s.row)) colours.push_back(s.colour), own += s.row >= 0;
-      if (own < options.min_band_samples) continue;
-      models.band[b][l] = FitSubset(std::move(colours), options.max_samples_per_band,
-                                    options.gmm_components, options.seed + l, &band_rng);
+      for (size_t i = 0; i < samples.rows[l].size(); ++i)
+        if (bands.Holds(b, samples.rows[l][i]))
+          colours.push_back(samples.colours[l][i]), own += samples.rows[l][i] >= 0;
+      if (own >= options.min_band_samples)
+        models.band[b][l] = FitSubset(std::move(colours), options.max_samples_per_band,
+                                      options.gmm_components, options.seed + l, &band_rng);
     }
+  models.whole.resize(num_labels);
+  std::mt19937_64 rng(options.seed);
+  for (int l = 0; l < num_labels; ++l)
+    models.whole[l] = FitSubset(std::move(samples.colours[l]), options.max_samples_per_label,
+                                options.gmm_components, options.seed + l, &rng);
+  for (std::vector<ColorGmm>& band : models.band)
+    for (int l = 0; l < num_labels; ++l)
+      if (band[l].Empty()) band[l] = models.whole[l];
   return models;
 }
 
@@ -428,14 +429,14 @@ LabelCostVolume AppearanceCosts(const cv::Mat& image, const std::vector<Labelled
   U4D_CHECK(num_labels >= 1, "AppearanceCosts: need at least one label");
   U4D_CHECK(where.empty() || (where.size() == image.size() && where.type() == CV_8UC1),
             "AppearanceCosts: `where` must be CV_8U {}x{}", image.cols, image.rows);
-  const ColourSamples samples = CollectColourSamples(image, training, num_labels, markers, options);
+  ColourSamples samples = CollectColourSamples(image, training, num_labels, markers, options);
   ColourBands bands;
   if (samples.bottom >= samples.top && options.colour_bands > 1) {
     bands.count = options.colour_bands;
     bands.top = samples.top;
     bands.height = static_cast<double>(samples.bottom - samples.top + 1) / bands.count;
   }
-  const ColourModels models = FitColourModels(samples, bands, options);
+  const ColourModels models = FitColourModels(std::move(samples), bands, options);
   LabelCostVolume volume{image.cols, image.rows, num_labels, {}};
   const size_t n = static_cast<size_t>(image.cols) * image.rows;
   volume.cost.assign(n * num_labels, 0.f);
