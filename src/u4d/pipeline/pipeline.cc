@@ -468,6 +468,23 @@ void RunSegments(RunContext& c, const std::vector<Segment>& todo,
 
 // ---- scene.json ----
 
+// The object ids in the instance maps written so far (their sidecars, each
+// written atomically).
+std::set<int> WrittenInstanceIds(const RunContext& c) {
+  std::set<int> ids;
+  for (const CaptureView& v : c.cap.views)
+    for (int f = c.f0; f < c.f1; ++f) {
+      const fs::path json = c.out / layout::SceneInstancesInfo(v.name, f);
+      if (!fs::exists(json)) continue;
+      const nlohmann::json j = ReadJsonFile(json);
+      if (!j.is_object() || !j.contains("instances") || !j["instances"].is_array()) continue;
+      for (const nlohmann::json& inst : j["instances"])
+        if (inst.is_object() && inst.contains("id") && inst["id"].is_number_integer())
+          if (const int id = inst["id"].get<int>(); id >= 1) ids.insert(id);
+    }
+  return ids;
+}
+
 void WriteIndex(const RunContext& c, const KeyframeSelection& sel, const std::vector<Segment>& segs,
                 bool has_eval) {
   SceneIndex index;
@@ -482,11 +499,12 @@ void WriteIndex(const RunContext& c, const KeyframeSelection& sel, const std::ve
     for (const auto& e : fs::directory_iterator(c.out / "meshes"))
       if (const auto id = ParseIndexName(e.path().filename().string()); e.is_directory() && id)
         ids.insert(*id);  // stray entries (meshes/abc) are not objects
+  index.has_meshes = !ids.empty();
+  ids.merge(WrittenInstanceIds(c));  // an object may have pixels and no mesh
   for (int id : ids) {
     const cv::Vec3b col = InstanceColor(id);
     index.objects.push_back({id, ObjectClass(c.classes, id), {col[0], col[1], col[2]}});
   }
-  index.has_meshes = !ids.empty();
   for (size_t s = 0; s < sel.keyframes.size(); ++s) {
     SceneKeyframeInfo kf{c.f0 + sel.keyframes[s], {}};
     for (int k = 0; k < c.NumFrames(); ++k)
