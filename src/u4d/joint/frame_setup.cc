@@ -25,10 +25,10 @@ cv::Mat Resize(const cv::Mat& image, const Camera& working, int interpolation) {
 // Each view's objects' regions grow by their leave-one-out visual hull from
 // the other views' initial labels (hull_support.h); the map goes to E_sem.
 // Every object claims the others' pixels (a box the detector merged with its
-// holder in this view, a person merged with the one in front); the pixels it
-// takes there are no colour sample of the other at t. An object whose region
-// stays empty (not in this view's labels, and not found in its image) leaves
-// the view.
+// holder in this view, a person merged with the one in front); the supported
+// pixels are no colour sample of the other, nor of the background (below).
+// An object whose region stays empty (not in this view's labels, and not
+// found in its image) leaves the view.
 void AddHullSupport(const std::vector<Camera>& cameras, const HullSupportOptions& options,
                     std::vector<JointViewInput>* inputs) {
   std::vector<cv::Mat> labels;
@@ -55,18 +55,21 @@ void AddHullSupport(const std::vector<Camera>& cameras, const HullSupportOptions
     for (JointObject& obj : in.objects) obj.region |= in.hull_support == obj.id;
     std::erase_if(in.objects,
                   [](const JointObject& obj) { return cv::countNonZero(obj.region) == 0; });
-    const cv::Mat claimed = (in.hull_support != 0) & (in.initial_labels != 0);
-    if (cv::countNonZero(claimed) > 0) {
-      LabelledImage& at_t = in.appearance_training.front();
-      at_t.labels = at_t.labels.clone();
-      at_t.labels.setTo(kUnsampledLabel, claimed);
+    // The pixels the other views support are no colour sample of the label
+    // the view's masks give them: not of another object it claims (a box the
+    // detector merged with its holder), and not of the background (a part
+    // the mask lacks). A part the mask lacks at t is likely lacking at t−1
+    // and t+1 too (the same detector), so their background pixels there give
+    // no sample either.
+    const cv::Mat supported = in.hull_support != 0;
+    for (LabelledImage& li : in.appearance_training) {
+      if (li.other_view || li.labels.size() != supported.size()) continue;
+      const bool at_t = &li == &in.appearance_training.front();
+      li.labels = li.labels.clone();
+      li.labels.setTo(kUnsampledLabel, at_t ? supported : supported & (li.labels == 0));
     }
     if (!options.colour_samples) continue;
-    // E_a: the supported pixels are no background sample at t, and those well
-    // inside the support are samples of their object.
-    LabelledImage& at_t = in.appearance_training.front();
-    at_t.labels = at_t.labels.clone();
-    at_t.labels.setTo(kUnsampledLabel, in.hull_support != 0);
+    // E_a: those well inside the support are samples of their object.
     cv::Mat inner;
     cv::erode(in.hull_support, inner, cv::Mat::ones(3, 3, CV_8U));
     in.markers.resize(in.num_labels);
@@ -116,6 +119,31 @@ void BorrowColourSamples(bool all_objects, std::vector<JointViewInput>* inputs) 
       in.appearance_training.push_back(
           {other.images_t[other.ref_view], labels, /*other_view=*/true});
     }
+  }
+}
+
+// E_a's samples in a view whose labels (at t, t−1 or t+1) swapped two
+// objects give no colour of either there (label_costs.h DropSwappedSamples).
+// The objects' colours to compare with are those the other views give them
+// at t: a swap in the view itself at t then shows too. With no other view
+// holding two of the objects, the view's own labels at t are the reference
+// for its neighbouring frames.
+void DropSwappedColourSamples(int num_labels, std::vector<JointViewInput>* inputs) {
+  for (size_t v = 0; v < inputs->size(); ++v) {
+    std::vector<LabelledImage> others;
+    for (size_t u = 0; u < inputs->size(); ++u)
+      if (u != v) others.push_back((*inputs)[u].appearance_training.front());
+    ColourHistograms reference = ObjectColourHistograms(others, num_labels);
+    std::vector<LabelledImage>& training = (*inputs)[v].appearance_training;
+    if (std::count_if(reference.begin() + 1, reference.end(),
+                      [](const std::vector<double>& h) { return !h.empty(); }) >= 2) {
+      DropSwappedSamples(reference, &training);
+      continue;
+    }
+    reference = ObjectColourHistograms({training.front()}, num_labels);
+    std::vector<LabelledImage> neighbours(training.begin() + 1, training.end());
+    DropSwappedSamples(reference, &neighbours);
+    std::copy(neighbours.begin(), neighbours.end(), training.begin() + 1);
   }
 }
 
@@ -360,6 +388,7 @@ std::vector<JointViewInput> MakeJointViewInputs(const JointFrameData& data,
         in.objects.push_back(obj);
       }
   });
+  DropSwappedColourSamples(num_labels, &inputs);
   if (options.hull.enabled) AddHullSupport(cams_t, options.hull, &inputs);
   BorrowColourSamples(options.colour_from_other_views, &inputs);
   return inputs;

@@ -28,10 +28,10 @@
 // pixels, and the solve's data terms decide. The map widens the solve's
 // region and relaxes E_sem there (the detector's background, or the claimed
 // object, at p is contradicted by the other views: E_sem does not prefer it
-// over o; the claimed pixels are no colour sample of the other object, and
-// with colour_samples E_a's colour models sample the supported pixels as o,
-// not as the background: frame_setup.cc), so E_a, E_c, E_d and a person's
-// E_p decide the label.
+// over o; the supported pixels are no colour sample of the claimed object,
+// nor of the background at t, t−1 and t+1, and with colour_samples E_a's
+// colour models sample them as o: frame_setup.cc), so E_a, E_c, E_d and a
+// person's E_p decide the label.
 #pragma once
 
 #include <vector>

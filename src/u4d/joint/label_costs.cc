@@ -356,12 +356,14 @@ ColorGmm FitSubset(std::vector<cv::Vec3b> colours, int cap, int components, uint
 }
 
 // The colour models: whole[l] from all of label l's samples, band[b][l] from
-// band b's (label l's whole model where the band holds fewer than
-// min_band_samples of the view's own). With one band only the whole models.
-// The whole models take the samples (their subsets are drawn in place).
+// band b's where the band holds at least min_band_samples of the view's own
+// (own[b][l]; else label l's whole model). With one band only the whole
+// models. The whole models take the samples (their subsets are drawn in
+// place).
 struct ColourModels {
   std::vector<ColorGmm> whole;
   std::vector<std::vector<ColorGmm>> band;
+  std::vector<std::vector<uint8_t>> own;
 };
 
 ColourModels FitColourModels(ColourSamples samples, const ColourBands& bands,
@@ -369,6 +371,7 @@ ColourModels FitColourModels(ColourSamples samples, const ColourBands& bands,
   const int num_labels = static_cast<int>(samples.colours.size());
   ColourModels models;
   models.band.assign(bands.count == 1 ? 0 : bands.count, std::vector<ColorGmm>(num_labels));
+  models.own.assign(models.band.size(), std::vector<uint8_t>(num_labels, 0));
   std::mt19937_64 band_rng(options.seed + 1);
   for (int b = 0; b < static_cast<int>(models.band.size()); ++b)
     for (int l = 0; l < num_labels; ++l) {
@@ -377,9 +380,10 @@ ColourModels FitColourModels(ColourSamples samples, const ColourBands& bands,
       for (size_t i = 0; i < samples.rows[l].size(); ++i)
         if (bands.Holds(b, samples.rows[l][i]))
           colours.push_back(samples.colours[l][i]), own += samples.rows[l][i] >= 0;
-      if (own >= options.min_band_samples)
-        models.band[b][l] = FitSubset(std::move(colours), options.max_samples_per_band,
-                                      options.gmm_components, options.seed + l, &band_rng);
+      if (own < options.min_band_samples) continue;
+      models.band[b][l] = FitSubset(std::move(colours), options.max_samples_per_band,
+                                    options.gmm_components, options.seed + l, &band_rng);
+      models.own[b][l] = 1;
     }
   models.whole.resize(num_labels);
   std::mt19937_64 rng(options.seed);
@@ -392,33 +396,95 @@ ColourModels FitColourModels(ColourSamples samples, const ColourBands& bands,
   return models;
 }
 
-// −log P(c | l) for every label at a pixel of band b (above AppearanceCosts)
-// into cost[l * stride]; `whole` is scratch space for num_labels values.
+// −log P(c | l) for every label at a pixel of band b (above AppearanceCosts),
+// up to a constant, into cost[l * stride]; `whole` is scratch space for
+// num_labels values. An object's odds against the background are those of
+// the band's models only where both have their own: a band model fits its
+// few colours more tightly than a whole model, so a band's background
+// weighed against an object's whole model (a person with too few pixels in
+// the band) would win by the models' locality alone.
 void PixelAppearance(const ColourModels& models, int b, const cv::Vec3b& c, float* cost,
                      size_t stride, double* whole) {
   const int num_labels = static_cast<int>(models.whole.size());
   constexpr float kNone = std::numeric_limits<float>::max() / 4;
-  if (models.band.empty()) {
+  for (int l = 0; l < num_labels; ++l)
+    if (!models.whole[l].Empty()) whole[l] = models.whole[l].LogLikelihood(c);
+  if (models.band.empty() || models.whole[0].Empty()) {
     for (int l = 0; l < num_labels; ++l)
-      cost[l * stride] =
-          models.whole[l].Empty() ? kNone : static_cast<float>(-models.whole[l].LogLikelihood(c));
+      cost[l * stride] = models.whole[l].Empty() ? kNone : static_cast<float>(-whole[l]);
     return;
   }
   const std::vector<ColorGmm>& local = models.band[b];
-  cost[0] = local[0].Empty() ? kNone : static_cast<float>(-local[0].LogLikelihood(c));
-  double foreground = -std::numeric_limits<double>::infinity(), best_whole = foreground;
+  const std::vector<uint8_t>& own = models.own[b];
+  const double background = own[0] ? local[0].LogLikelihood(c) : whole[0];
+  double odds = -std::numeric_limits<double>::infinity(), best_whole = odds;
   for (int l = 1; l < num_labels; ++l) {
     if (models.whole[l].Empty()) continue;
-    foreground = std::max(foreground, local[l].LogLikelihood(c));
-    whole[l] = models.whole[l].LogLikelihood(c);
+    odds = std::max(
+        odds, own[0] && own[l] ? local[l].LogLikelihood(c) - background : whole[l] - whole[0]);
     best_whole = std::max(best_whole, whole[l]);
   }
+  cost[0] = 0.f;
   for (int l = 1; l < num_labels; ++l)
     cost[l * stride] =
-        models.whole[l].Empty() ? kNone : static_cast<float>(-(foreground + whole[l] - best_whole));
+        models.whole[l].Empty() ? kNone : static_cast<float>(-(odds + whole[l] - best_whole));
 }
 
 }  // namespace
+
+ColourHistograms ObjectColourHistograms(const std::vector<LabelledImage>& images, int num_labels) {
+  ColourHistograms hist(num_labels, std::vector<double>(512, 0.0));
+  std::vector<double> count(num_labels, 0.0);
+  for (const LabelledImage& li : images) {
+    U4D_CHECK(li.image.type() == CV_8UC3 && li.labels.type() == CV_16UC1 &&
+                  li.image.size() == li.labels.size(),
+              "ObjectColourHistograms: image/labels must be BGR / CV_16U of one size");
+    for (int y = 0; y < li.labels.rows; ++y)
+      for (int x = 0; x < li.labels.cols; ++x) {
+        const int l = li.labels.at<uint16_t>(y, x);
+        if (l == 0 || l >= num_labels) continue;
+        const cv::Vec3b c = li.image.at<cv::Vec3b>(y, x);
+        ++hist[l][(c[0] >> 5) * 64 + (c[1] >> 5) * 8 + (c[2] >> 5)];
+        ++count[l];
+      }
+  }
+  for (int l = 0; l < num_labels; ++l) {
+    if (count[l] == 0) hist[l].clear();
+    for (double& h : hist[l]) h /= count[l];
+  }
+  return hist;
+}
+
+namespace {
+
+double Bhattacharyya(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.empty() || b.empty()) return 0;
+  double s = 0;
+  for (size_t i = 0; i < a.size(); ++i) s += std::sqrt(a[i] * b[i]);
+  return s;
+}
+
+}  // namespace
+
+void DropSwappedSamples(const ColourHistograms& reference, std::vector<LabelledImage>* training) {
+  const int n = static_cast<int>(reference.size());
+  for (LabelledImage& li : *training) {
+    if (li.other_view) continue;
+    const ColourHistograms hist = ObjectColourHistograms({li}, n);
+    cv::Mat drop = cv::Mat::zeros(li.labels.size(), CV_8U);
+    for (int l = 1; l < n; ++l)
+      for (int k = l + 1; k < n; ++k) {
+        if (hist[l].empty() || hist[k].empty() || reference[l].empty() || reference[k].empty())
+          continue;
+        if (Bhattacharyya(hist[l], reference[k]) > Bhattacharyya(hist[l], reference[l]) &&
+            Bhattacharyya(hist[k], reference[l]) > Bhattacharyya(hist[k], reference[k]))
+          drop |= (li.labels == l) | (li.labels == k);
+      }
+    if (cv::countNonZero(drop) == 0) continue;
+    li.labels = li.labels.clone();
+    li.labels.setTo(kUnsampledLabel, drop);
+  }
+}
 
 LabelCostVolume AppearanceCosts(const cv::Mat& image, const std::vector<LabelledImage>& training,
                                 int num_labels,

@@ -21,8 +21,12 @@
 //   person, and a small share of the whole. So for object l at colour c in
 //   band b: −log( max_k P_b(c | k) · P(c | l) / max_k P(c | k) ); for the
 //   background −log P_b(c | 0). A band with too few samples of a label's
-//   own uses the label's whole model. Off by default (one band): a part
-//   the view's mask lacks is then a large share of its band's background.
+//   own uses the label's whole model, and an object without its own band
+//   model there is weighed against the background's whole model (a band
+//   model fits its few colours more tightly, and would win by its locality
+//   alone). A part the view's mask lacks would be a large share of its
+//   band's background; the other views' hull support keeps it out of the
+//   background's samples (joint/frame_setup.cc AddHullSupport).
 // E_sem(l) — semantic: −log P_sem(l | p) where P_sem is a soft version of the
 //   initial instance masks: a logistic function of the signed distance to each
 //   label's mask boundary, floored at `min_probability` and normalised over
@@ -68,10 +72,9 @@ struct LabelCostOptions {
   int max_samples_per_label = 4000;  // colour samples used to fit a GMM (random subset)
   int background_band_px = 25;  // background samples: within this distance of the ROI's objects
   // E_a's bands in height (above; 1 = one model per label, the paper's).
-  // Off by default: a part the view's mask lacks (a head cut off, a person
-  // missed) is then a large share of its band's background samples, and the
-  // other views' hull no longer brings it back (docs/joint.md).
-  int colour_bands = 1;
+  // Four bands cut a standing person into head and shoulders, torso, thighs
+  // and lower legs with feet: parts whose clothes differ (docs/joint.md).
+  int colour_bands = 4;
   int max_samples_per_band = 1000;  // colour samples used to fit a band's GMM (random subset)
   // A band's model of a label needs this many of the view's own samples in
   // the band (else the label's whole model): ~20 per component of a 10-GMM.
@@ -112,6 +115,21 @@ struct LabelledImage {
   // its objects lend samples: its background (label 0) gives none.
   bool other_view = false;
 };
+
+// E_a's colour samples come from initial labels whose object ids were linked
+// across views and frames (ψ_T's t−1 and t+1), and linking can swap two
+// people in a view (a detector renumbers its instances per image). Mixed
+// samples give both people both colours, and one then takes the other.
+// ObjectColourHistograms: each object's colours over `images` (8 bins per
+// channel, normalised; empty for an object without pixels there).
+// DropSwappedSamples: in each of `training`'s images (not another view's), two
+// objects l and k whose pixels each look more like the other's `reference`
+// than like their own (the Bhattacharyya coefficient of the histograms) were
+// swapped there: their pixels become kUnsampledLabel. Throws on a size or
+// type mismatch.
+using ColourHistograms = std::vector<std::vector<double>>;
+ColourHistograms ObjectColourHistograms(const std::vector<LabelledImage>& images, int num_labels);
+void DropSwappedSamples(const ColourHistograms& reference, std::vector<LabelledImage>* training);
 
 // E_a for labels 0..num_labels-1 on `image`. `markers[l]` are extra
 // foreground pixels of label l in `image` (sparse markers; may be empty).

@@ -283,6 +283,50 @@ TEST(AppearanceCostsTest, BandModelsTellAColourWornHighFromTheSameColourOnTheFlo
   EXPECT_THROW(AppearanceCosts(image, training, 3, {}, bad), Error);
 }
 
+// A band where the people have too few pixels of their own for band models
+// (min_band_samples) weighs their whole models against the background's
+// whole model, not against the band's: a band model fits its few colours
+// more tightly and would win by its locality alone. When every object falls
+// back so, the costs are those of one band.
+TEST(AppearanceCostsTest, ABandWithoutTheObjectsOwnModelsWeighsWholeModels) {
+  cv::Mat image, truth, shirt, tiles;
+  PeopleOnTiles(&image, &truth, &shirt, &tiles);
+  const std::vector<LabelledImage> training{{image, truth}};
+  LabelCostOptions one, fallback;
+  one.colour_bands = 1;
+  fallback.colour_bands = 4;
+  fallback.min_band_samples = 1500;  // each person has about 600 per band, the background more
+  const LabelCostVolume a = AppearanceCosts(image, training, 3, {}, one);
+  const LabelCostVolume b = AppearanceCosts(image, training, 3, {}, fallback);
+  for (size_t i = 0; i < a.cost.size(); ++i) ASSERT_NEAR(a.cost[i], b.cost[i], 1e-5) << i;
+}
+
+// Two people whose ids a neighbouring frame's labels swapped give no colour
+// samples there (DropSwappedSamples); a neighbour with the right ids, the
+// reference frame and another view's image keep theirs.
+TEST(DropSwappedSamplesTest, OnlyTheSwappedNeighboursObjectsGiveNoSamples) {
+  cv::Mat image, truth, shirt, tiles;
+  PeopleOnTiles(&image, &truth, &shirt, &tiles);
+  cv::Mat swapped = truth.clone();
+  swapped.setTo(2, truth == 1);
+  swapped.setTo(1, truth == 2);
+  std::vector<LabelledImage> training{
+      {image, truth}, {image, swapped}, {image, truth}, {image, swapped, /*other_view=*/true}};
+  const ColourHistograms reference = ObjectColourHistograms({training.front()}, 3);
+  ASSERT_EQ(reference.size(), 3u);
+  EXPECT_TRUE(reference[0].empty());
+  DropSwappedSamples(reference, &training);
+  auto same = [](const cv::Mat& a, const cv::Mat& b) { return cv::countNonZero(a != b) == 0; };
+  EXPECT_TRUE(same(training[0].labels, truth));
+  EXPECT_TRUE(same(training[2].labels, truth));
+  EXPECT_TRUE(same(training[3].labels, swapped));
+  cv::Mat expected = truth.clone();
+  expected.setTo(kUnsampledLabel, truth > 0);
+  EXPECT_TRUE(same(training[1].labels, expected));
+  training.push_back({image, cv::Mat(3, 3, CV_16U, cv::Scalar(0))});
+  EXPECT_THROW(DropSwappedSamples(reference, &training), Error);
+}
+
 TEST(RelaxSemanticCostsTest, TheOtherViewsObjectCostsNoMoreThanTheInitialLabel) {
   // A 20x10 image: object 1 in the left half; the hull support names object 1
   // on the right half too (a part the mask missed) and object 2 on one pixel
