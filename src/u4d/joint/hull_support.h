@@ -47,10 +47,10 @@ struct HullSupportOptions {
   int min_views = 3;          // other views that must put a point on the object
   int mask_tolerance_px = 2;  // the other views' object labels dilated by this (pixels)
   int depth_samples = 64;     // depths tested per ray, even in depth over the object's range
-  // E_a also samples the supported pixels as their object and not as the
-  // background. Off by default: it restores a part cut in every frame of the
-  // neighbourhood, but where touching people merge in the other views the
-  // samples carry the other person's and the gap's colours (more merges).
+  // E_a also samples the supported pixels as their object (they are never
+  // background samples: frame_setup.cc). Off by default: where touching
+  // people merge in the other views the samples carry the other person's
+  // and the gap's colours (more merges).
   bool colour_samples = false;
   int max_side = 240;  // rays are cast at this longest side (the map is then upsampled)
   // E_a does not overrule a label the other views confirm (HullConfirmation).

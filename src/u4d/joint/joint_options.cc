@@ -58,8 +58,8 @@ void DeclareOptions(OptionRegistry& r, HullSupportOptions* o) {
         "a confirming view must hold the point this far inside its object labels (pixels): not "
         "the detectors' boundary errors");
   r.Add("colour_samples", &o->colour_samples,
-        "E_a samples the supported pixels as their object, not as background (restores a part cut "
-        "in every frame; more merges where touching people merge in the other views)");
+        "E_a samples the supported pixels as their object (they are never background samples; "
+        "more merges where touching people merge in the other views)");
   r.Add("max_side", &o->max_side, "rays are cast at this longest side (the map is upsampled)");
 }
 
