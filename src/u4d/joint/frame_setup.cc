@@ -136,7 +136,7 @@ void DropSwappedColourSamples(int num_labels, std::vector<JointViewInput>* input
     ColourHistograms reference = ObjectColourHistograms(others, num_labels);
     std::vector<LabelledImage>& training = (*inputs)[v].appearance_training;
     if (std::count_if(reference.begin() + 1, reference.end(),
-                      [](const std::vector<double>& h) { return !h.empty(); }) >= 2) {
+                      [](const cv::Mat& h) { return !h.empty(); }) >= 2) {
       DropSwappedSamples(reference, &training);
       continue;
     }

@@ -433,35 +433,30 @@ void PixelAppearance(const ColourModels& models, int b, const cv::Vec3b& c, floa
 }  // namespace
 
 ColourHistograms ObjectColourHistograms(const std::vector<LabelledImage>& images, int num_labels) {
-  ColourHistograms hist(num_labels, std::vector<double>(512, 0.0));
-  std::vector<double> count(num_labels, 0.0);
+  ColourHistograms hist(num_labels);
+  const int channels[] = {0, 1, 2}, bins[] = {8, 8, 8};
+  const float range[] = {0, 256};
+  const float* ranges[] = {range, range, range};
   for (const LabelledImage& li : images) {
     U4D_CHECK(li.image.type() == CV_8UC3 && li.labels.type() == CV_16UC1 &&
                   li.image.size() == li.labels.size(),
               "ObjectColourHistograms: image/labels must be BGR / CV_16U of one size");
-    for (int y = 0; y < li.labels.rows; ++y)
-      for (int x = 0; x < li.labels.cols; ++x) {
-        const int l = li.labels.at<uint16_t>(y, x);
-        if (l == 0 || l >= num_labels) continue;
-        const cv::Vec3b c = li.image.at<cv::Vec3b>(y, x);
-        ++hist[l][(c[0] >> 5) * 64 + (c[1] >> 5) * 8 + (c[2] >> 5)];
-        ++count[l];
-      }
-  }
-  for (int l = 0; l < num_labels; ++l) {
-    if (count[l] == 0) hist[l].clear();
-    for (double& h : hist[l]) h /= count[l];
+    for (int l = 1; l < num_labels; ++l) {
+      const cv::Mat mask = li.labels == l;
+      if (cv::countNonZero(mask) == 0) continue;
+      cv::calcHist(&li.image, 1, channels, mask, hist[l], 3, bins, ranges, true,
+                   /*accumulate=*/!hist[l].empty());
+    }
   }
   return hist;
 }
 
 namespace {
 
-double Bhattacharyya(const std::vector<double>& a, const std::vector<double>& b) {
-  if (a.empty() || b.empty()) return 0;
-  double s = 0;
-  for (size_t i = 0; i < a.size(); ++i) s += std::sqrt(a[i] * b[i]);
-  return s;
+// The Bhattacharyya distance of two histograms (cv::compareHist), 1 where
+// either is empty.
+double Bhattacharyya(const cv::Mat& a, const cv::Mat& b) {
+  return a.empty() || b.empty() ? 1.0 : cv::compareHist(a, b, cv::HISTCMP_BHATTACHARYYA);
 }
 
 }  // namespace
@@ -476,8 +471,8 @@ void DropSwappedSamples(const ColourHistograms& reference, std::vector<LabelledI
       for (int k = l + 1; k < n; ++k) {
         if (hist[l].empty() || hist[k].empty() || reference[l].empty() || reference[k].empty())
           continue;
-        if (Bhattacharyya(hist[l], reference[k]) > Bhattacharyya(hist[l], reference[l]) &&
-            Bhattacharyya(hist[k], reference[l]) > Bhattacharyya(hist[k], reference[k]))
+        if (Bhattacharyya(hist[l], reference[k]) < Bhattacharyya(hist[l], reference[l]) &&
+            Bhattacharyya(hist[k], reference[l]) < Bhattacharyya(hist[k], reference[k]))
           drop |= (li.labels == l) | (li.labels == k);
       }
     if (cv::countNonZero(drop) == 0) continue;

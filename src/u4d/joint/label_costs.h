@@ -120,14 +120,14 @@ struct LabelledImage {
 // across views and frames (ψ_T's t−1 and t+1), and linking can swap two
 // people in a view (a detector renumbers its instances per image). Mixed
 // samples give both people both colours, and one then takes the other.
-// ObjectColourHistograms: each object's colours over `images` (8 bins per
-// channel, normalised; empty for an object without pixels there).
+// ObjectColourHistograms: each object's colours over `images` (cv::calcHist,
+// 8 bins per channel; an empty Mat for an object without pixels there).
 // DropSwappedSamples: in each of `training`'s images (not another view's), two
 // objects l and k whose pixels each look more like the other's `reference`
-// than like their own (the Bhattacharyya coefficient of the histograms) were
+// than like their own (the Bhattacharyya distance, cv::compareHist) were
 // swapped there: their pixels become kUnsampledLabel. Throws on a size or
 // type mismatch.
-using ColourHistograms = std::vector<std::vector<double>>;
+using ColourHistograms = std::vector<cv::Mat>;
 ColourHistograms ObjectColourHistograms(const std::vector<LabelledImage>& images, int num_labels);
 void DropSwappedSamples(const ColourHistograms& reference, std::vector<LabelledImage>* training);
 
