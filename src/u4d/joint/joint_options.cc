@@ -212,7 +212,7 @@ void DeclareOptions(OptionRegistry& r, LabelCostOptions* o) {
         "label's whole model)");
   r.Add("appearance_inset_px", &o->appearance_inset_px,
         "colour samples only from pixels at least this far inside their label's initial mask; 0 = "
-        "every pixel");
+        "every pixel (for masks the capture trusts)");
   r.Add("mask_softness_px", &o->mask_softness_px,
         "logistic scale of P_sem across a mask boundary (pixels)");
   r.Add("min_probability", &o->min_probability,

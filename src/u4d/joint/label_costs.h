@@ -81,7 +81,8 @@ struct LabelCostOptions {
   int min_band_samples = 200;
   // Colour samples only from pixels at least this far inside their label's
   // initial mask (the band where a detector's mask boundary errs: a dilated
-  // mask's rim is background colour); 0 = every pixel.
+  // mask's rim is background colour); 0 = every pixel, for masks the capture
+  // trusts (a thin part is mostly rim: docs/joint.md).
   int appearance_inset_px = 2;
   double mask_softness_px = 2.0;  // logistic scale of P_sem across a mask boundary (pixels)
   double min_probability =
