@@ -9,7 +9,8 @@ tables as <work>/<id>.json (--json; bench/bench_table.h).
 """
 import os
 
-from config import DETECTOR_SEEDS, LONG_RUN, LONG_SYNTH, scale_points, scen_synth_args
+from config import (DETECTOR_SEEDS, LONG_RUN, LONG_SYNTH, TRUE_MASK_SETTINGS, TRUE_MASK_WORLDS,
+                    scale_points, scen_synth_args)
 
 SE_BASELINES = "deepflow,dis,farneback"
 
@@ -133,6 +134,20 @@ def _scenario_steps(c, w, u4d):
         yield ("rm", cap)
 
 
+def _true_mask_steps(c, w, u4d):
+    """true_masks: each world with its true masks given, run with each setting."""
+    for sid in c["true_masks_ids"]:
+        cap = "%s/%s" % (w, sid)
+        yield ("run", sid + "_synth", [u4d, "synth"] + TRUE_MASK_WORLDS[sid[len("tm_"):]]
+               + c["true_masks"].split() + ["--degrade", "none", "-o", cap])
+        for name, options in TRUE_MASK_SETTINGS:
+            scene = "%s/%s" % (cap, name)
+            yield ("run", "%s_%s" % (sid, name),
+                   [u4d, "run", cap, "-o", scene, "--no-progress"] + options)
+            yield from _keep(scene, w, "%s_%s" % (sid, name), ["run", "eval"])
+        yield ("rm", cap)
+
+
 def _long_steps(c, w, u4d):
     """scaling (and its plot), long."""
     for (v, size), sid in zip(scale_points(c), c["scaling_ids"]):
@@ -164,4 +179,5 @@ def plan(c, work):
     yield from _bench_steps(c, work, b)
     yield from _scene_steps(c, work, u4d)
     yield from _scenario_steps(c, work, u4d)
+    yield from _true_mask_steps(c, work, u4d)
     yield from _long_steps(c, work, u4d)

@@ -2,7 +2,7 @@
 `u4d run`, `u4d eval` and `u4d consistency` write, one row per capture."""
 import os
 
-from config import DETECTOR_SEEDS
+from config import DETECTOR_SEEDS, TRUE_MASK_SETTINGS
 from summary import row
 from values import drift, get, mm, num, peak_mb, per_frame, r3, rounded, stage_sum, synth_fps
 
@@ -191,11 +191,28 @@ def long_sequences(ctx, w, text):
     return s + "\n" + provenances(w, ctx["long_ids"], ["_synth", "", "_eval"])
 
 
+def true_masks(ctx, w, text):
+    s = text["true_masks"]
+    for sid in ctx["true_masks_ids"]:
+        for name, _ in TRUE_MASK_SETTINGS:
+            rid = "%s_%s" % (sid, name)
+            e = w.json(rid + ".eval.json")
+            if e is None:
+                s += row(sid[len("tm_"):], name, "(no eval.json: the run failed)", None, None, None)
+                continue
+            s += row(sid[len("tm_"):], name, r3(get(e, "instances.mean_instance_iou")),
+                     r3(get(e, "instances.mean_class_iou")), mm(get(e, "meshes.chamfer_m")),
+                     per_frame(w.json(rid + ".run.json")))
+    suffixes = ["_synth"] + ["_" + name for name, _ in TRUE_MASK_SETTINGS]
+    return s + "\n" + provenances(w, ctx["true_masks_ids"], suffixes)
+
+
 def render(ctx, w, text):
     want, s = ctx["want"], ""
     if want("detector"):
         s += detector(w, text)
-    for section, fn in [("scenarios", scenarios), ("ablations", ablations)]:
+    for section, fn in [("scenarios", scenarios), ("ablations", ablations),
+                        ("true_masks", true_masks)]:
         if ctx[section + "_ids"]:
             s += fn(ctx, w, text)
     if want("speed"):

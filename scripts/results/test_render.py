@@ -240,6 +240,15 @@ class DocumentTest(Fixture):
         self.assertIn("| S_e of the GT masks carried by the flow, two people walking (Silhouette "
                       "overlap error) | DeepFlow 0.05, DIS 0.061, Farneback  | ours 0.042 |", doc)
 
+    def test_true_mask_rows_and_a_failed_run(self):
+        self.put("tm_realistic_default.eval.json", EVAL_JSON)
+        self.put("tm_realistic_default.run.json", RUN_JSON)
+        doc = self.document(["--quick", "--only", "true_masks"])
+        self.assertIn("## True masks given", doc)
+        self.assertIn("| realistic | default | 0.968 |  | 7.5 | 3.9 |\n", doc)
+        self.assertIn("| realistic | trusted | (no eval.json: the run failed) | | | |\n", doc)
+        self.assertIn("| handshake | default | (no eval.json: the run failed) | | | |\n", doc)
+
     def test_graph_cuts_and_tracks_summary_from_google_benchmark_json(self):
         self.step("tracks", "precision=0.9 on the console\n")
         self.put("tracks.gbench.json", {"benchmarks": [{"name": "BM_TemporalTracks/12/8",
@@ -302,6 +311,14 @@ class PlanTest(unittest.TestCase):
         self.assertEqual(speed, ["speed_4v_480x270_synth", "speed_4v_480x270",
                                  "speed_4v_480x270_consistency", "speed_8v_480x270_synth",
                                  "speed_8v_480x270", "speed_8v_480x270_consistency"])
+        true_masks = self.steps(["--only", "true_masks"])
+        self.assertEqual([a[1] for a in true_masks],
+                         ["tm_realistic_synth", "tm_realistic_default", "tm_realistic_trusted",
+                          "tm_handshake_synth", "tm_handshake_default", "tm_handshake_trusted"])
+        synth = true_masks[0][2]
+        self.assertEqual(synth[1:5], ["synth", "--preset", "realistic", "--seed"])
+        self.assertEqual(synth[-4:], ["--degrade", "none", "-o", "/w/tm_realistic"])
+        self.assertEqual(true_masks[2][2][-1], "joint.labels.appearance_inset_px=0")
         abl = [a[1] for a in self.steps(["--quick", "--only", "ablations"])]
         self.assertEqual(abl[0], "scen_walk_synth")
         self.assertEqual(abl[1:], ["abl_" + a for a in config.ABLATIONS])
