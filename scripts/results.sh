@@ -29,7 +29,9 @@
 #                   End to end: scenarios (handshake, meetup, moving cameras;
 #                   S_e of DeepFlow/DIS/Farneback vs GT), ablations (`u4d run
 #                   --ablation`), scaling (views 4/8/16, image sizes up to
-#                   1080p; plot with python3-matplotlib when installed).
+#                   1080p; plot with python3-matplotlib when installed),
+#                   true_masks (the realistic world and the handshake with
+#                   their true masks, default and trusted-mask settings).
 #   --out FILE      write FILE (relative to the repository root) instead of
 #                   docs/results.md.
 #   --update        with --only: replace only the sections this run wrote in
