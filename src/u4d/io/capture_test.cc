@@ -225,6 +225,18 @@ TEST(InstanceMask, MalformedJsonIsAnErrorNamingFileAndField) {
   ExpectErrorMentions(with(R"({"instances": [7]})"), {"m.json", "expected a JSON object"});
   ExpectErrorMentions(with(R"([1, 2])"), {"m.json", "expected a JSON object"});
   ExpectErrorMentions(with(R"({"instances": {}})"), {"m.json", "'instances'", "must be an array"});
+  // The sidecar alone is read with the same checks; the image's ids are
+  // checked against it only with the image.
+  WriteTextFileAtomic(dir / "m.json", R"({"instances": [{"id": 5, "score": 0.25}]})");
+  const std::vector<InstanceInfo> info = ReadInstanceInfo(dir / "m.json");
+  ASSERT_EQ(info.size(), 1u);
+  EXPECT_EQ(info[0].id, 5);
+  EXPECT_EQ(info[0].label, "person");
+  EXPECT_EQ(info[0].score, 0.25);
+  ExpectErrorMentions([&] { ReadInstanceMask(dir / "m.png", dir / "m.json"); },
+                      {"m.json", "id 3", "not listed"});
+  WriteTextFileAtomic(dir / "m.json", R"({"instances": [{"id": 5}, {"id": 5}]})");
+  ExpectErrorMentions([&] { ReadInstanceInfo(dir / "m.json"); }, {"m.json", "listed twice"});
 }
 
 }  // namespace

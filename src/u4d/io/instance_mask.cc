@@ -15,9 +15,8 @@ const InstanceInfo* InstanceMask::Find(int id) const {
   return nullptr;
 }
 
-InstanceMask ReadInstanceMask(const fs::path& png, const fs::path& json) {
-  InstanceMask mask;
-  mask.ids = ReadLabelImage(png);
+std::vector<InstanceInfo> ReadInstanceInfo(const fs::path& json) {
+  std::vector<InstanceInfo> instances;
   const std::string ctx = json.string();
   const nlohmann::json j = JsonObject(ReadJsonFile(json), ctx);
   std::set<int> listed;
@@ -31,11 +30,18 @@ InstanceMask ReadInstanceMask(const fs::path& png, const fs::path& json) {
     U4D_CHECK(std::isfinite(info.score) && info.score >= 0 && info.score <= 1,
               "{}: instance {} has score {} outside [0, 1]", ctx, info.id, info.score);
     U4D_CHECK(listed.insert(info.id).second, "{}: instance id {} listed twice", ctx, info.id);
-    mask.instances.push_back(info);
+    instances.push_back(info);
   }
+  return instances;
+}
+
+InstanceMask ReadInstanceMask(const fs::path& png, const fs::path& json) {
+  InstanceMask mask;
+  mask.ids = ReadLabelImage(png);
+  mask.instances = ReadInstanceInfo(json);
   for (int id : IdsIn(mask.ids))
-    U4D_CHECK(listed.count(id), "{}: id {} appears in {} but is not listed", ctx, id,
-              png.filename().string());
+    U4D_CHECK(mask.Find(id) != nullptr, "{}: id {} appears in {} but is not listed", json.string(),
+              id, png.filename().string());
   return mask;
 }
 

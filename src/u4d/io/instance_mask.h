@@ -31,6 +31,10 @@ struct InstanceMask {
 // file, a corrupt image, a bad sidecar, or an id present in the image but
 // not in the sidecar.
 InstanceMask ReadInstanceMask(const fs::path& png, const fs::path& json);
+// The sidecar alone (what each id means, without the image), checked as
+// above: throws naming the file on a missing file, bad JSON, a bad field, an
+// id out of range or listed twice.
+std::vector<InstanceInfo> ReadInstanceInfo(const fs::path& json);
 void WriteInstanceMask(const fs::path& png, const fs::path& json, const InstanceMask& mask);
 
 // CV_32F of the mask's size: each pixel the score of the instance it holds,

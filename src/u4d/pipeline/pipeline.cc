@@ -25,6 +25,7 @@
 #include "u4d/io/frame_reader.h"
 #include "u4d/io/image_io.h"
 #include "u4d/io/input_fingerprint.h"
+#include "u4d/io/instance_mask.h"
 #include "u4d/io/label_ids.h"
 #include "u4d/io/layout.h"
 #include "u4d/io/scene_index.h"
@@ -469,18 +470,14 @@ void RunSegments(RunContext& c, const std::vector<Segment>& todo,
 // ---- scene.json ----
 
 // The object ids in the instance maps written so far (their sidecars, each
-// written atomically).
+// written atomically; a damaged one is an error naming it).
 std::set<int> WrittenInstanceIds(const RunContext& c) {
   std::set<int> ids;
   for (const CaptureView& v : c.cap.views)
     for (int f = c.f0; f < c.f1; ++f) {
       const fs::path json = c.out / layout::SceneInstancesInfo(v.name, f);
       if (!fs::exists(json)) continue;
-      const nlohmann::json j = ReadJsonFile(json);
-      if (!j.is_object() || !j.contains("instances") || !j["instances"].is_array()) continue;
-      for (const nlohmann::json& inst : j["instances"])
-        if (inst.is_object() && inst.contains("id") && inst["id"].is_number_integer())
-          if (const int id = inst["id"].get<int>(); id >= 1) ids.insert(id);
+      for (const InstanceInfo& info : ReadInstanceInfo(json)) ids.insert(info.id);
     }
   return ids;
 }
