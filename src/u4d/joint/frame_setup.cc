@@ -127,22 +127,33 @@ void BorrowColourSamples(bool all_objects, std::vector<JointViewInput>* inputs) 
 // The objects' colours to compare with are those the other views give them
 // at t: a swap in the view itself at t then shows too. With no other view
 // holding two of the objects, the view's own labels at t are the reference
-// for its neighbouring frames.
+// for its neighbouring frames. Each view's histograms at t are computed
+// once; a view's reference is the sum of the others' (whole counts: exact).
 void DropSwappedColourSamples(int num_labels, std::vector<JointViewInput>* inputs) {
+  std::vector<ColourHistograms> at_t;
+  for (const JointViewInput& in : *inputs)
+    at_t.push_back(ObjectColourHistograms({in.appearance_training.front()}, num_labels));
   for (size_t v = 0; v < inputs->size(); ++v) {
-    std::vector<LabelledImage> others;
-    for (size_t u = 0; u < inputs->size(); ++u)
-      if (u != v) others.push_back((*inputs)[u].appearance_training.front());
-    ColourHistograms reference = ObjectColourHistograms(others, num_labels);
+    ColourHistograms reference(num_labels);
+    for (size_t u = 0; u < inputs->size(); ++u) {
+      if (u == v) continue;
+      for (int l = 1; l < num_labels; ++l) {
+        const cv::Mat& h = at_t[u][l];
+        if (h.empty()) continue;
+        if (reference[l].empty())
+          reference[l] = h.clone();
+        else
+          reference[l] += h;
+      }
+    }
     std::vector<LabelledImage>& training = (*inputs)[v].appearance_training;
     if (std::count_if(reference.begin() + 1, reference.end(),
                       [](const cv::Mat& h) { return !h.empty(); }) >= 2) {
       DropSwappedSamples(reference, &training);
       continue;
     }
-    reference = ObjectColourHistograms({training.front()}, num_labels);
     std::vector<LabelledImage> neighbours(training.begin() + 1, training.end());
-    DropSwappedSamples(reference, &neighbours);
+    DropSwappedSamples(at_t[v], &neighbours);
     std::copy(neighbours.begin(), neighbours.end(), training.begin() + 1);
   }
 }
