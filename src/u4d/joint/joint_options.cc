@@ -71,7 +71,9 @@ void DeclareOptions(OptionRegistry& r, PosePriorOptions* o) {
         "bones leaving the torso taper from torso_radius_m to limb_radius_m at the hip / shoulder "
         "/ neck joint (false: torso radius along the whole bone)");
   r.Add("head_joint_on_crown", &o->head_joint_on_crown,
-        "the head joint is the crown: the neck-head capsule ends one head radius before it");
+        "the head joint is the crown (the synthetic ground truth), not the head centre built from "
+        "2D keypoints: the neck-head capsule ends one head radius before it (false: its cap "
+        "reaches one head radius beyond the joint)");
   r.Add("occluder_limb_radius_m", &o->occluder_limb_radius_m,
         "another person's capsules with limbs this thick hide a capsule behind them (<= "
         "limb_radius_m: plain z-buffer)");

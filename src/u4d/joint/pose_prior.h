@@ -19,8 +19,12 @@
 //
 // Capsules taper linearly between per-joint radii (hip, shoulder and neck bones:
 // torso radius at the pelvis / thorax, limb radius at the joint; taper_torso_ends), and
-// the head capsule ends one radius below the head joint, which is the crown
-// (head_joint_on_crown): a capsule's end cap must not reach past the body.
+// the head capsule's end cap is placed by what the head joint is
+// (head_joint_on_crown): around the head centre, the internal convention of
+// poses built from 2D keypoints (docs/annotations.md), the cap reaches one
+// radius past the joint, to the crown; for a crown joint (the synthetic
+// ground truth) the capsule ends one radius before it. Either way the cap
+// stops at the top of the head, not above it or at the ears.
 //
 // Sub-terms, each in [0, 1] at a pixel covered by person k:
 //   e_2d^S(l)    = w(p) [l ≠ k]                        label near the projected pose
@@ -57,10 +61,15 @@ struct PosePriorOptions {
   // reaches ~8 cm above the shoulder, one around the neck joint fills the
   // gap beside the neck). false: torso radius along the whole bone.
   bool taper_torso_ends = true;
-  // The H36M-17 head joint is the top of the head (the crown), not its
-  // centre: the neck-head capsule ends one head radius before it, so its cap
-  // stops at the crown. false: the cap reaches a radius beyond the joint.
-  bool head_joint_on_crown = true;
+  // false: the head joint is the head centre, as the poses `u4d run` builds
+  // from 2D keypoints (the mid-ears, docs/annotations.md) and the documented
+  // convention of given 3D poses: the cap reaches one head radius beyond the
+  // joint, to the crown. true: the head joint is the crown (Human3.6M's head
+  // top, the synthetic ground truth's joints3d, docs/synthetic.md): the
+  // neck-head capsule ends one head radius before it, so its cap stops there.
+  // A crown setting on centre joints leaves the top of every head (~10 cm)
+  // outside its person's capsule, free for a capsule behind it to claim.
+  bool head_joint_on_crown = false;
   // Occlusion between people: a capsule's pixel is left unclaimed where another
   // person's capsules, with the arm and leg radius raised to this value, have a
   // surface in front of it. limb_radius_m is a thin core of the limb; a clothed

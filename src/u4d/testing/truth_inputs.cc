@@ -12,8 +12,15 @@ namespace u4d {
 
 std::vector<std::vector<Pose3d>> ReadGtPoses3d(const Capture& capture) {
   std::vector<std::vector<Pose3d>> poses(capture.num_frames);
-  for (int f = 0; f < capture.num_frames; ++f)
+  for (int f = 0; f < capture.num_frames; ++f) {
     poses[f] = ReadPoses3d(capture.root / layout::GtJoints3d(f));
+    for (Pose3d& pose : poses[f]) {
+      Eigen::Vector4d& head = pose.joints[h36m17::kHead];
+      const Eigen::Vector4d& neck = pose.joints[h36m17::kNeck];
+      const Eigen::Vector3d centre = (head.head<3>() + neck.head<3>()) / 2;
+      head << centre, std::min(head[3], neck[3]);
+    }
+  }
   return poses;
 }
 

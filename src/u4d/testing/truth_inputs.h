@@ -23,7 +23,10 @@ struct ViewTruth {
 ViewTruth ReadViewTruth(const Capture& capture, int view, int frame);
 
 // The GT 3D poses of every frame (layout.h GtJoints3d), indexed by frame: the
-// stand-in for the estimated poses (pose/ measures its own accuracy).
+// stand-in for the estimated poses (pose/ measures its own accuracy). Their
+// head joint is moved to the estimated poses' convention, the head centre
+// (docs/annotations.md): the GT head joint is the crown and its neck the
+// head's base (docs/synthetic.md), so the centre is their mid-point.
 std::vector<std::vector<Pose3d>> ReadGtPoses3d(const Capture& capture);
 
 // The truth at another resolution (a working resolution): ids, depth and
