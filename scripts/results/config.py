@@ -29,7 +29,11 @@ SIZES = {
     "recon": ("--views 8 --width 320 --height 180 --working-width 320 --frames 3"
               " --methods full,P_P",
               "--views 8 --frames 3 --methods full,P_M,P_P,P_S"),
-    "abl_run": ("--working-width 160", "--frames 4"),
+    # The ablations' own short capture of ABL_SCENARIO, each run whole (so
+    # each writes its eval.json).
+    "abl_synth": ("--frames 3 --views 4 --width 320 --height 180",
+                  "--frames 4 --views 8 --width 480 --height 270"),
+    "abl_run": ("--working-width 160", ""),
     "speed_views": ("4", "4 8"),
     "speed_sizes": ("320x180", "480x270"),
     "speed_frames": ("3", "4"),

@@ -9,8 +9,8 @@ tables as <work>/<id>.json (--json; bench/bench_table.h).
 """
 import os
 
-from config import (DETECTOR_SEEDS, LONG_RUN, LONG_SYNTH, TRUE_MASK_SETTINGS, TRUE_MASK_WORLDS,
-                    scale_points, scen_synth_args)
+from config import (ABL_SCENARIO, DETECTOR_SEEDS, LONG_RUN, LONG_SYNTH, TRUE_MASK_SETTINGS,
+                    TRUE_MASK_WORLDS, scale_points, scen_synth_args)
 
 SE_BASELINES = "deepflow,dis,farneback"
 
@@ -112,26 +112,32 @@ def _eval_steps(u4d, cap, w, sid):
 
 
 def _scenario_steps(c, w, u4d):
-    """scenarios, ablations: one capture per scenario (the ablations use walk)."""
-    scen, abl = c["scenarios_ids"], c["ablations_ids"]
-    for sid in scen or (["scen_walk"] if abl else []):
+    """scenarios: one capture per scenario."""
+    for sid in c["scenarios_ids"]:
         cap = "%s/%s" % (w, sid)
-        name = sid[len("scen_"):]
-        yield ("run", sid + "_synth", [u4d, "synth"] + scen_synth_args(name) + c["scen"].split()
-               + ["-o", cap])
-        if scen:
-            yield ("run", sid,
-                   [u4d, "run", cap, "-o", cap + "/scene", "--no-eval", "--no-progress"])
-            yield from _keep(cap + "/scene", w, sid, ["run"])
-            yield from _eval_steps(u4d, cap, w, sid)
-        if name == "walk":
-            for aid in abl:
-                scene = "%s/%s.scene" % (w, aid)
-                yield ("run", aid, [u4d, "run", cap, "-o", scene, "--ablation", aid[len("abl_"):],
-                                    "--no-progress"] + c["abl_run"].split())
-                yield from _keep(scene, w, aid, ["run", "eval"])
-                yield ("rm", scene)
+        yield ("run", sid + "_synth", [u4d, "synth"] + scen_synth_args(sid[len("scen_"):])
+               + c["scen"].split() + ["-o", cap])
+        yield ("run", sid, [u4d, "run", cap, "-o", cap + "/scene", "--no-eval", "--no-progress"])
+        yield from _keep(cap + "/scene", w, sid, ["run"])
+        yield from _eval_steps(u4d, cap, w, sid)
         yield ("rm", cap)
+
+
+def _ablation_steps(c, w, u4d):
+    """ablations: a short capture of ABL_SCENARIO of their own, each energy run
+    on the whole of it (a run of part of a capture writes no eval.json)."""
+    if not c["ablations_ids"]:
+        return
+    cap = "%s/abl_%s" % (w, ABL_SCENARIO)
+    yield ("run", "abl_synth", [u4d, "synth"] + scen_synth_args(ABL_SCENARIO)
+           + c["abl_synth"].split() + ["-o", cap])
+    for aid in c["ablations_ids"]:
+        scene = "%s/%s.scene" % (w, aid)
+        yield ("run", aid, [u4d, "run", cap, "-o", scene, "--ablation", aid[len("abl_"):],
+                            "--no-progress"] + c["abl_run"].split())
+        yield from _keep(scene, w, aid, ["run", "eval"])
+        yield ("rm", scene)
+    yield ("rm", cap)
 
 
 def _true_mask_steps(c, w, u4d):
@@ -179,5 +185,6 @@ def plan(c, work):
     yield from _bench_steps(c, work, b)
     yield from _scene_steps(c, work, u4d)
     yield from _scenario_steps(c, work, u4d)
+    yield from _ablation_steps(c, work, u4d)
     yield from _true_mask_steps(c, work, u4d)
     yield from _long_steps(c, work, u4d)

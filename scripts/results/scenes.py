@@ -90,7 +90,8 @@ def ablations(ctx, w, text):
             s += row(sid[len("abl_"):], "(no eval.json: the run failed)", *[None] * 7)
             continue
         s += row(sid[len("abl_"):], *accuracy(e), *surface(e), per_frame(w.json(sid + ".run.json")))
-    return s + "\n" + provenances(w, ctx["ablations_ids"], [""])
+    synth = w.provenance("abl_synth") if ctx["ablations_ids"] else ""
+    return s + "\n" + synth + provenances(w, ctx["ablations_ids"], [""])
 
 
 def speed_stages(ctx, w):
