@@ -43,6 +43,7 @@
 #include <cstring>
 #include <functional>
 #include <map>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -59,6 +60,7 @@
 #include "u4d/eval/fused_reconstruction.h"
 #include "u4d/eval/mesh_metrics.h"
 #include "u4d/eval/segmentation_metrics.h"
+#include "u4d/init/init.h"
 #include "u4d/io/capture.h"
 #include "u4d/io/image_io.h"
 #include "u4d/io/instance_mask.h"
@@ -192,15 +194,36 @@ struct TraceStats {
 
 double Nan() { return std::nan(""); }
 
-// The objects of every frame from the capture's masks, without poses.
-std::vector<FrameObjects> AssociateObjects(const Capture& capture, FrameReader* reader) {
-  ObjectLinker linker;
+// The objects of every frame from the capture's masks, without poses, as
+// `u4d run` makes them from given masks (pipeline/early_stages.cc,
+// ComputeInitialObjects): the ground step names the people alike in every
+// view, each frame from the previous frame's people or, where the backward
+// pass found more, the next frame's (PeopleFromTheNextFrame); then the
+// sparse step links them through time.
+std::vector<FrameObjects> AssociateObjects(const Capture& capture, FrameReader* reader,
+                                           const RunOptions& run) {
   const std::vector<std::vector<Pose3d>> no_poses(capture.num_frames);
+  std::vector<JointFrameData> frames;
+  for (int f = 0; f < capture.num_frames; ++f)
+    frames.push_back(ReadJointFrameData(capture, reader, f, no_poses));
+  const bool ground = UsesGroundOccupancy(run.init, capture.NumViews());
+  std::vector<std::optional<PeoplePositions>> next(capture.num_frames);
+  if (ground)
+    next = PeopleFromTheNextFrame(capture.num_frames, [&](int f, PeoplePositions start) {
+      GroundPeopleFromDetections(frames[f].cameras_t, frames[f].masks_t, run.init, &start);
+      return start;
+    });
+  ObjectLinker linker;
+  linker.options = run.link;
+  PeoplePositions people;  // the previous frame's, on the ground plane
   std::vector<FrameObjects> objects;
   for (int f = 0; f < capture.num_frames; ++f) {
-    const JointFrameData d = ReadJointFrameData(capture, reader, f, no_poses);
-    objects.push_back(ObjectsFromSparse(d.cameras_t, d.images_t, d.masks_t, SparseFrameOptions{},
-                                        ObjectRegionOptions{}, &linker));
+    const JointFrameData& d = frames[f];
+    if (next[f]) people = *next[f];
+    const std::vector<cv::Mat> masks =
+        ground ? GroundPeopleFromDetections(d.cameras_t, d.masks_t, run.init, &people) : d.masks_t;
+    objects.push_back(ObjectsFromSparse(d.cameras_t, d.images_t, masks, run.sparse, run.regions,
+                                        &linker, ground));
   }
   return objects;
 }
@@ -351,8 +374,11 @@ int main(int argc, char** argv) try {
   const bool gt_poses = fs::exists(dir / layout::GtJoints3d(0));
   const std::vector<std::vector<Pose3d>> poses =
       gt_poses ? ReadGtPoses3d(capture) : std::vector<std::vector<Pose3d>>(capture.num_frames);
+  RunOptions run;
+  args.overrides.ApplyTo(&run);
+  run.Check();
   std::vector<FrameObjects> objects;
-  if (!gt_poses) objects = AssociateObjects(capture, &reader);
+  if (!gt_poses) objects = AssociateObjects(capture, &reader, run);
 
   std::vector<std::string> methods = {"full"};
   if (args.ablations)
@@ -373,9 +399,6 @@ int main(int argc, char** argv) try {
   std::vector<TraceStats> trace;
   int num_depth_labels = 0, num_motion_labels = 0, solved_views = 0;
   const eval::InstanceSegOptions seg_options;
-  RunOptions run;
-  args.overrides.ApplyTo(&run);
-  run.Check();
   FrameSetupOptions setup = run.frame_setup;
   setup.pose = run.joint.pose;  // one capsule model, as in the pipeline
   double scale = 0;
