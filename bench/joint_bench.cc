@@ -18,7 +18,7 @@
 //        --motion-candidates K; the joint and frame_setup options apply here]
 //       [shorthands for options (BenchFlags below): --no-cross-view --reg-linear
 //        --no-reg-edge --reg-boundary free|discontinuity|ignore --no-split-merged
-//        --pose-3d-own-label --semantic-temporal --occluder-limb-radius M
+//        --pose-3d-any-label --semantic-temporal --occluder-limb-radius M
 //        --appearance-refits N --appearance-inset PX --no-carry-depth --depth-coarse-step N
 //        --sweeps N --depth-refine-band N --fusion-rounds N --no-depth-object-ranges
 //        --motion-window N]
@@ -103,7 +103,7 @@ const std::vector<OptionFlag>& BenchFlags() {
       {"--no-reg-edge", "joint.motion_reg_edge_aware", "false"},
       {"--reg-boundary", "joint.motion_reg_boundary", ""},
       {"--no-split-merged", "frame_setup.split_merged", "false"},
-      {"--pose-3d-own-label", "joint.pose.shape_own_label_only", "true"},
+      {"--pose-3d-any-label", "joint.pose.shape_own_label_only", "false"},
       {"--semantic-temporal", "joint.semantic_temporal", "true"},
       {"--occluder-limb-radius", "joint.pose.occluder_limb_radius_m", ""},
       {"--appearance-refits", "joint.appearance_refits", ""},

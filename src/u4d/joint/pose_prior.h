@@ -90,13 +90,14 @@ struct PosePriorOptions {
   // is off k's capsule (another person's leg seen between k's) pays e_3d to
   // be labelled k, which balances e_2d's pull towards k; and a pixel labelled
   // another person or background is not pulled onto k's capsule in depth.
-  // false: e_3d applies whatever the label (the depth of such pixels is pulled
-  // onto the capsule that covers them in the image). Off by default: the
-  // initial depth is chosen with the initial label, so where the label is
-  // wrong the depth agrees with it and the gate does not help, while
-  // elsewhere it loses pixels the ungated shape term keeps on the person;
-  // kept for comparison in joint_bench (--pose-3d-own-label).
-  bool shape_own_label_only = false;
+  // Where a person stands in front of k's capsule outside their own (the
+  // front person's flank, shoulder or hair beside the capsule of the person
+  // behind), the point seen is far in front of k's capsule: labelled k it
+  // pays e_3d, so e_2d's pull towards k no longer wins alone. false: e_3d
+  // applies whatever the label (the depth of such pixels is pulled onto the
+  // capsule that covers them in the image). Where the initial label is wrong
+  // the initial depth agrees with it and the gate helps less.
+  bool shape_own_label_only = true;
   double core_fraction = 0.5;    // w(p) = exp(−(r / core_fraction)² / 2), r in capsule radii:
                                  // the pose is trusted most near the bone axis
   int samples_per_bone = 12;     // discs drawn along each bone

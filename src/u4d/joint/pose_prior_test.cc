@@ -1,10 +1,13 @@
 // E_p's sub-terms alone against their formulas (pose_prior.h), on a hand-built
-// PosePriorMap of 3x3 pixels and a pinhole camera.
+// PosePriorMap of 3x3 pixels and a pinhole camera, and their gate by the
+// label in JointEnergy (joint_energy.h).
 #include "u4d/joint/pose_prior.h"
 
 #include <cmath>
 
 #include <gtest/gtest.h>
+
+#include "u4d/joint/joint_energy.h"
 
 namespace u4d {
 namespace {
@@ -108,6 +111,40 @@ TEST(PosePriorTest, Pose3dCostMotionPart) {
   EXPECT_NEAR(
       Pose3dCost(map, 4, Eigen::Vector3d(0.3, 0.5, 5), Eigen::Vector2d(9, 11), camera, options),
       0.8 * (1 - std::exp(-8.0)), 1e-6);
+}
+
+// The gate of e_3d by the label (PosePriorOptions::shape_own_label_only): at
+// a pixel of person 2's capsule, a 3D point 0.3 m off the bone's axis pays
+// e_3d when the pixel is labelled 2 and nothing under another label (the
+// pixel shows something else, e.g. a person in front); ungated, every label
+// pays it and the depth is pulled onto the capsule whatever the label.
+TEST(PosePriorTest, Pose3dGatedByTheLabel) {
+  const Camera camera = Pinhole();
+  JointEnergy energy;
+  energy.width = energy.height = 3;
+  energy.num_pixels = 9;
+  energy.num_labels = 3;
+  energy.label_unary.assign(27, 0.f);
+  energy.camera_t = energy.camera_t1 = &camera;
+  energy.pose = Map();
+  energy.use_pose = true;
+  energy.pose_3d_share = 1;
+  energy.pose_options.sigma_shape_m = 0.05;
+  energy.rays.assign(9, Eigen::Vector3d(0.06, 0.1, 1));  // through (0.3, 0.5, 5) at z = 5
+  energy.depth.depths = {5.f};
+  energy.unknown = 1;
+  const double e3d = 0.8 * (1 - std::exp(-8.0));  // as in Pose3dCostShapePart
+  const Eigen::Vector2f still(0, 0);
+  ASSERT_TRUE(energy.pose_options.shape_own_label_only);  // the default
+  EXPECT_NEAR(energy.Pose3d(4, 2, 0, still), e3d, 1e-5);
+  EXPECT_EQ(energy.Pose3d(4, 1, 0, still), 0.0);
+  EXPECT_EQ(energy.Pose3d(4, 0, 0, still), 0.0);
+  EXPECT_EQ(energy.Pose3d(4, 2, energy.unknown, still), 0.0);  // U: no point
+  EXPECT_NEAR(energy.LabelUnaryWithPose3d(4, 2, 0, still), e3d, 1e-5);
+  EXPECT_EQ(energy.LabelUnaryWithPose3d(4, 1, 0, still), 0.0);
+  energy.pose_options.shape_own_label_only = false;
+  EXPECT_NEAR(energy.Pose3d(4, 1, 0, still), e3d, 1e-5);
+  EXPECT_EQ(energy.LabelUnaryWithPose3d(4, 1, 0, still), 0.0);  // then a depth term only
 }
 
 }  // namespace
