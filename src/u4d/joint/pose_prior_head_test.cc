@@ -5,7 +5,10 @@
 // head for that person, also where another person stands behind it. With the
 // crown setting on these joints the capsule stops at the ears and the top of
 // the head is left to nobody or to the person behind.
+#include <cstdio>
 #include <map>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -40,52 +43,64 @@ int NearestGtPerson(const Pose3d& pose, const std::vector<Pose3d>& gt) {
   return best;
 }
 
-// The top `fraction` of each GT person's silhouette rows (its head, for
-// people standing upright) in every view and frame, scored against the
-// capsules of the poses triangulated from the 2D keypoints.
+// The poses triangulated from frame f's 2D keypoints, as `u4d run` builds
+// them, each named by its nearest GT person; `cameras` receives the views'.
+std::vector<PersonPose> TriangulatedPeople(const Capture& capture, int f,
+                                           std::vector<Camera>* cameras) {
+  std::vector<std::vector<Pose2d>> per_view;
+  cameras->clear();
+  for (int v = 0; v < capture.NumViews(); ++v) {
+    per_view.push_back(ReadPoses2d(capture.root / layout::Poses2d(capture.views[v].name, f)));
+    cameras->push_back(capture.views[v].CameraAt(f));
+  }
+  const std::vector<Pose3d> gt = ReadPoses3d(capture.root / layout::GtJoints3d(f));
+  std::vector<PersonPose> people;
+  for (const Pose3d& pose : TriangulatePoses(per_view, *cameras)) {
+    PersonPose person;
+    person.object_id = NearestGtPerson(pose, gt);
+    person.at_t = pose;
+    people.push_back(person);
+  }
+  EXPECT_EQ(people.size(), gt.size()) << "frame " << f;
+  return people;
+}
+
+// Adds the top `fraction` of each GT person's silhouette rows in `ids` (its
+// head, for people standing upright), scored against the capsules' map.
+void AddHeadTops(const cv::Mat& ids, const PosePriorMap& map, double fraction, HeadTops* score) {
+  std::map<int, std::pair<int, int>> rows;  // person -> first and last row
+  for (int y = 0; y < ids.rows; ++y)
+    for (int x = 0; x < ids.cols; ++x)
+      if (const int id = ids.at<uint16_t>(y, x); id > 0)
+        rows.try_emplace(id, y, y).first->second.second = y;
+  for (int y = 0; y < ids.rows; ++y)
+    for (int x = 0; x < ids.cols; ++x) {
+      const int id = ids.at<uint16_t>(y, x);
+      if (id == 0) continue;
+      const auto [top, bottom] = rows[id];
+      if (y > top + fraction * (bottom - top)) continue;
+      const int claimed = map.object.at<uint16_t>(y, x);
+      ++score->pixels;
+      score->own += claimed == id;
+      score->other += claimed != 0 && claimed != id;
+    }
+}
+
+// The head tops of every view and frame against the capsules drawn with `options`.
 HeadTops ScoreHeadTops(const Capture& capture, const PosePriorOptions& options, double fraction) {
   HeadTops score;
   for (int f = 0; f < capture.num_frames; ++f) {
-    std::vector<std::vector<Pose2d>> per_view;
     std::vector<Camera> cameras;
-    for (int v = 0; v < capture.NumViews(); ++v) {
-      per_view.push_back(ReadPoses2d(capture.root / layout::Poses2d(capture.views[v].name, f)));
-      cameras.push_back(capture.views[v].CameraAt(f));
-    }
-    const std::vector<Pose3d> gt = ReadPoses3d(capture.root / layout::GtJoints3d(f));
-    std::vector<PersonPose> people;
-    for (const Pose3d& pose : TriangulatePoses(per_view, cameras)) {
-      PersonPose person;
-      person.object_id = NearestGtPerson(pose, gt);
-      person.at_t = pose;
-      people.push_back(person);
-    }
-    EXPECT_EQ(people.size(), gt.size()) << "frame " << f;
+    const std::vector<PersonPose> people = TriangulatedPeople(capture, f, &cameras);
     for (int v = 0; v < capture.NumViews(); ++v) {
       const std::string& name = capture.views[v].name;
       const cv::Mat ids = ReadInstanceMask(capture.root / layout::GtInstances(name, f),
                                            capture.root / layout::GtInstancesInfo(name, f))
                               .ids;
-      const PosePriorMap map = RenderPosePrior(
-          cameras[v], cameras[v], cv::Mat::zeros(ids.size(), CV_8UC3), people, options);
-      std::map<int, std::pair<int, int>> rows;  // person -> first and last row
-      for (int y = 0; y < ids.rows; ++y)
-        for (int x = 0; x < ids.cols; ++x)
-          if (const int id = ids.at<uint16_t>(y, x); id > 0) {
-            auto [it, added] = rows.try_emplace(id, y, y);
-            it->second.second = y;
-          }
-      for (int y = 0; y < ids.rows; ++y)
-        for (int x = 0; x < ids.cols; ++x) {
-          const int id = ids.at<uint16_t>(y, x);
-          if (id == 0) continue;
-          const auto [top, bottom] = rows[id];
-          if (y > top + fraction * (bottom - top)) continue;
-          const int claimed = map.object.at<uint16_t>(y, x);
-          ++score.pixels;
-          score.own += claimed == id;
-          score.other += claimed != 0 && claimed != id;
-        }
+      AddHeadTops(ids,
+                  RenderPosePrior(cameras[v], cameras[v], cv::Mat::zeros(ids.size(), CV_8UC3),
+                                  people, options),
+                  fraction, &score);
     }
   }
   return score;
