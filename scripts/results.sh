@@ -36,8 +36,9 @@
 #                   docs/results.md.
 #   --update        with --only: replace only the sections this run wrote in
 #                   the existing FILE (matched by heading; new ones go before
-#                   "Not yet measured"), keep the others and the summary, and
-#                   name the regenerated sections in the header.
+#                   "Not yet measured") and the summary's rows taken from them,
+#                   keep the other sections and rows, and name the regenerated
+#                   sections in the header.
 #   --no-build      do not run cmake/ninja (the binaries must exist).
 #   --speed-views, --speed-sizes, --speed-frames
 #                   the `u4d run` speed section: one synthetic handshake per

@@ -139,10 +139,24 @@ def document(ctx, prose=None):
     return doc + text["not_measured"]
 
 
+def summary_rows(doc):
+    """The data rows of doc's "## Summary" table, keyed by their first cell (the result)."""
+    rows, inside = {}, False
+    for line in doc.splitlines(keepends=True):
+        if line.startswith("## "):
+            inside = line.startswith("## Summary")
+        cells = line.split("|")
+        if inside and len(cells) > 2 and cells[1].strip() not in ("result (paper table)", "---"):
+            rows[cells[1].strip()] = line
+    return rows
+
+
 def splice(old, new, note):
     """old with each "## " section that new also has (except the summary and
     "Not yet measured") replaced by new's; new's other sections go before
-    "## Not yet measured"; note goes before "## Summary"."""
+    "## Not yet measured"; note goes before "## Summary". In the summary
+    table, each row new has (those of the sections it ran) replaces old's row
+    of the same result; a result old lacks is added at the table's end."""
     body, order, head = {}, [], ""
     for line in new.splitlines(keepends=True):
         if line.startswith("## "):
@@ -150,7 +164,9 @@ def splice(old, new, note):
             order.append(head)
         if head not in ("", "## Summary", "## Not yet measured"):
             body[head] = body.get(head, "") + line
-    out, done, noted, skip = [], set(), False, False
+    fresh = summary_rows(new)
+    pending = [k for k in fresh if k not in summary_rows(old)]
+    out, done, noted, skip, cur = [], set(), False, False, ""
     for line in old.splitlines(keepends=True):
         if line.startswith("## "):
             cur = line.rstrip("\n")
@@ -166,6 +182,12 @@ def splice(old, new, note):
         if line.startswith("## Summary") and not noted:
             out.append(note + "\n\n")
             noted = True
+        if cur == "## Summary" and line.startswith("|"):
+            key = line.split("|")[1].strip()
+            line = fresh.get(key, line)
+        elif cur == "## Summary" and pending and out and out[-1].startswith("|"):
+            out.extend(fresh[k] for k in pending)
+            pending = []
         if not skip:
             out.append(line)
     return "".join(out)
@@ -174,8 +196,8 @@ def splice(old, new, note):
 def write(ctx, out, doc):
     if ctx["update"] and ctx["only"] and os.path.isfile(out):
         note = ("Regenerated later, at commit %s on %s by `scripts/results.sh --only %s --update`: "
-                "the sections named by that run (their own provenance lines say how); the summary "
-                "and the other sections are those of the run above." % (
+                "the sections named by that run (their own provenance lines say how) and the "
+                "summary's rows from them; the other rows and sections are those of the run above." % (
                     ctx["commit"], ctx["today"], ctx["only"]))
         with open(out) as f:
             doc = splice(f.read(), doc, note)

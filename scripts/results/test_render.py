@@ -275,9 +275,23 @@ class UpdateTest(Fixture):
 
     def test_splice_replaces_sections_by_heading_and_adds_new_ones(self):
         doc = render.splice(self.OLD, self.NEW, "NOTE")
-        self.assertEqual(doc, "# Results\n\nheader\n\nNOTE\n\n## Summary\n\n| old summary |\n\n"
-                              "## Segmentation (x)\n\nold seg\n\n## Flow (y)\n\nnew flow\n\n"
+        self.assertEqual(doc, "# Results\n\nheader\n\nNOTE\n\n## Summary\n\n| old summary |\n"
+                              "| new summary |\n\n## Segmentation (x)\n\nold seg\n\n## Flow (y)\n\nnew flow\n\n"
                               "## Sintel (z)\n\nnew sintel\n\n\n## Not yet measured\n\n- nothing\n")
+
+    def test_splice_takes_the_summary_rows_of_the_sections_run(self):
+        head = "| result (paper table) | baseline(s) | ours | section |\n|---|---|---|---|\n"
+        old = ("# Results\n\n## Summary\n\n" + head + "| seg IoU | a | 0.9 | Segmentation |\n"
+               "| speed, s | | 10.9 s | Scaling |\n\n## Scaling (s)\n\nold\n\n"
+               "## Not yet measured\n\n- x\n")
+        new = ("# Results\n\n## Summary\n\n" + head + "| speed, s | | 12.1 s | Scaling |\n"
+               "| new result | | 1 | Scaling |\n\n## Scaling (s)\n\nnew\n\n"
+               "## Not yet measured\n\n- y\n")
+        doc = render.splice(old, new, "NOTE")
+        self.assertEqual(doc, "# Results\n\nNOTE\n\n## Summary\n\n" + head +
+                         "| seg IoU | a | 0.9 | Segmentation |\n| speed, s | | 12.1 s | Scaling |\n"
+                         "| new result | | 1 | Scaling |\n\n## Scaling (s)\n\nnew\n\n"
+                         "## Not yet measured\n\n- x\n")
 
     def test_write_updates_only_with_only(self):
         out = os.path.join(self.work, "results.md")
