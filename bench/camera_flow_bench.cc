@@ -8,7 +8,9 @@
 //   fill      FillInconsistentObjectFlow, the same
 //   refine    RefineObjectFlowVariationally, the default iterations
 // then the steps' end on the brightness-constant pair (BrightnessConstantPair:
-// the estimators' own error, without the images'), and OpenCV's DeepFlow,
+// the estimators' own error, without the images'), the steps started from
+// the true flow (RunFromTruth: what each keeps of a perfect start), and
+// OpenCV's DeepFlow,
 // DIS (medium) and Farneback on the whole image. Per
 // row: the people's EPE over the GT-valid pixels, the share off by more
 // than 10 px and within 1 px, the motion scale (the predicted motion's
@@ -84,16 +86,19 @@ std::vector<View> ReadViews(const Capture& c) {
 constexpr int kSteps = 4;
 constexpr const char* kStepNames[kSteps] = {"pick", "median", "fill", "refine"};
 
-// The pipeline's camera-size steps at the default working width, one after
-// the other on every view, each step's score after it.
-void RunSteps(const std::vector<View>& views, Score* scores) {
+// The pipeline's camera-size steps at the default working width, those in
+// `steps` (indices into kStepNames) one after the other on every view, from
+// the solve's flow zero (or, with `from_truth`, from the true flow), each
+// step's score after it in scores[step].
+void RunSteps(const std::vector<View>& views, Score* scores,
+              const std::vector<int>& steps = {0, 1, 2, 3}, bool from_truth = false) {
   const FrameSetupOptions d;
   const double scale = static_cast<double>(d.working_width) / kWidth;
   const int median = std::max(1, cvRound(d.flow_median_px / scale)) | 1;
   const int radius = std::max(1, cvRound(d.flow_fill_radius_px / scale));
   for (const View& v : views) {
-    cv::Mat flow = cv::Mat::zeros(v.truth.size(), CV_32FC2);
-    for (int s = 0; s < kSteps; ++s) {
+    cv::Mat flow = from_truth ? v.truth.clone() : cv::Mat::zeros(v.truth.size(), CV_32FC2);
+    for (const int s : steps) {
       Timer timer;
       if (s == 0)
         RefineFlowAtCameraSize(v.labels, v.image_t, v.image_t1, d.flow_window_px, &flow,
@@ -108,6 +113,20 @@ void RunSteps(const std::vector<View>& views, Score* scores) {
       scores[s].Add(v, flow);
     }
   }
+}
+
+// The steps started from the true flow: what each keeps of a perfect start.
+// The pick alone shows how often brightness over its window prefers a
+// candidate to the truth; the refinement alone, how far the minimum of its
+// energy lies from the truth; all steps, what the chain keeps.
+void RunFromTruth(const std::string& world, const std::vector<View>& views, bench::Table* rows) {
+  Score pick[kSteps], refine[kSteps], all[kSteps];
+  RunSteps(views, pick, {0}, true);
+  RunSteps(views, refine, {3}, true);
+  RunSteps(views, all, {0, 1, 2, 3}, true);
+  rows->Row(pick[0].Cells(world, "pick alone, from the true flow"));
+  rows->Row(refine[3].Cells(world, "refine alone, from the true flow"));
+  rows->Row(all[kSteps - 1].Cells(world, "all steps, from the true flow"));
 }
 
 // The view with its image at t redrawn from the image at t+1 through the
@@ -149,6 +168,7 @@ void RunWorld(const std::string& world, bench::Table* rows) {
   for (const View& v : views) constant_views.push_back(BrightnessConstantPair(v));
   RunSteps(constant_views, constant);
   rows->Row(constant[kSteps - 1].Cells(world, "refine, brightness-constant pair"));
+  RunFromTruth(world, views, rows);
   for (baselines::FlowBaseline b : baselines::AllFlowBaselines()) {
     Score score;
     for (const View& v : views) {
