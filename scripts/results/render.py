@@ -197,8 +197,8 @@ def write(ctx, out, doc):
     if ctx["update"] and ctx["only"] and os.path.isfile(out):
         note = ("Regenerated later, at commit %s on %s by `scripts/results.sh --only %s --update`: "
                 "the sections named by that run (their own provenance lines say how) and the "
-                "summary's rows from them; the other rows and sections are those of the run above." % (
-                    ctx["commit"], ctx["today"], ctx["only"]))
+                "summary's rows from them; the other rows and sections are those of the run "
+                "above." % (ctx["commit"], ctx["today"], ctx["only"]))
         with open(out) as f:
             doc = splice(f.read(), doc, note)
     with open(out, "w") as f:

@@ -275,8 +275,9 @@ class UpdateTest(Fixture):
 
     def test_splice_replaces_sections_by_heading_and_adds_new_ones(self):
         doc = render.splice(self.OLD, self.NEW, "NOTE")
-        self.assertEqual(doc, "# Results\n\nheader\n\nNOTE\n\n## Summary\n\n| old summary |\n"
-                              "| new summary |\n\n## Segmentation (x)\n\nold seg\n\n## Flow (y)\n\nnew flow\n\n"
+        self.assertEqual(doc, "# Results\n\nheader\n\nNOTE\n\n## Summary\n\n"
+                              "| old summary |\n| new summary |\n\n"
+                              "## Segmentation (x)\n\nold seg\n\n## Flow (y)\n\nnew flow\n\n"
                               "## Sintel (z)\n\nnew sintel\n\n\n## Not yet measured\n\n- nothing\n")
 
     def test_splice_takes_the_summary_rows_of_the_sections_run(self):
