@@ -200,17 +200,27 @@ double Nan() { return std::nan(""); }
 // view, each frame from the previous frame's people or, where the backward
 // pass found more, the next frame's (PeopleFromTheNextFrame); then the
 // sparse step links them through time.
+// What the association needs of a frame: its cameras, images and masks at t
+// (not the whole JointFrameData, whose neighbouring frames' images would be
+// held for every frame).
+struct FrameViews {
+  std::vector<Camera> cameras;
+  std::vector<cv::Mat> images, masks;
+};
+
 std::vector<FrameObjects> AssociateObjects(const Capture& capture, FrameReader* reader,
                                            const RunOptions& run) {
   const std::vector<std::vector<Pose3d>> no_poses(capture.num_frames);
-  std::vector<JointFrameData> frames;
-  for (int f = 0; f < capture.num_frames; ++f)
-    frames.push_back(ReadJointFrameData(capture, reader, f, no_poses));
+  std::vector<FrameViews> frames;
+  for (int f = 0; f < capture.num_frames; ++f) {
+    JointFrameData d = ReadJointFrameData(capture, reader, f, no_poses);
+    frames.push_back({std::move(d.cameras_t), std::move(d.images_t), std::move(d.masks_t)});
+  }
   const bool ground = UsesGroundOccupancy(run.init, capture.NumViews());
   std::vector<std::optional<PeoplePositions>> next(capture.num_frames);
   if (ground)
     next = PeopleFromTheNextFrame(capture.num_frames, [&](int f, PeoplePositions start) {
-      GroundPeopleFromDetections(frames[f].cameras_t, frames[f].masks_t, run.init, &start);
+      GroundPeopleFromDetections(frames[f].cameras, frames[f].masks, run.init, &start);
       return start;
     });
   ObjectLinker linker;
@@ -218,12 +228,12 @@ std::vector<FrameObjects> AssociateObjects(const Capture& capture, FrameReader* 
   PeoplePositions people;  // the previous frame's, on the ground plane
   std::vector<FrameObjects> objects;
   for (int f = 0; f < capture.num_frames; ++f) {
-    const JointFrameData& d = frames[f];
+    const FrameViews& d = frames[f];
     if (next[f]) people = *next[f];
     const std::vector<cv::Mat> masks =
-        ground ? GroundPeopleFromDetections(d.cameras_t, d.masks_t, run.init, &people) : d.masks_t;
-    objects.push_back(ObjectsFromSparse(d.cameras_t, d.images_t, masks, run.sparse, run.regions,
-                                        &linker, ground));
+        ground ? GroundPeopleFromDetections(d.cameras, d.masks, run.init, &people) : d.masks;
+    objects.push_back(
+        ObjectsFromSparse(d.cameras, d.images, masks, run.sparse, run.regions, &linker, ground));
   }
   return objects;
 }
