@@ -100,6 +100,12 @@ struct FrameSetupOptions {
   // frame's refined labels, or its initial masks where no next frame is
   // solved (the run's end, a gap, an error).
   bool flow_object_matches = true;
+  // That step also tries the written camera-size flow of the frame before,
+  // carried forward along itself (constant velocity, camera_flow.h
+  // CarriedObjectFlow), where frame t-1 continues into t and its maps are
+  // in the scene folder: a fast limb's motion that the pair (t, t+1)
+  // matches poorly. False: the two images' candidates only.
+  bool flow_carried_candidate = true;
   // Then each object's camera-size flow is median-filtered over a square of
   // this side in working pixels, over the object's own pixels in it
   // (camera_flow.h MedianFilterObjectFlow; Sun, Roth and Black 2010's 5x5

@@ -26,6 +26,10 @@ void DeclareOptions(OptionRegistry& r, FrameSetupOptions* o) {
   r.Add("flow_object_matches", &o->flow_object_matches,
         "that step also tries each object's own match, the rest of the image greyed out at t "
         "and t+1 (false: the whole image's match only)");
+  r.Add("flow_carried_candidate", &o->flow_carried_candidate,
+        "that step also tries the frame before's written flow carried forward along itself "
+        "(constant velocity), where that frame continues into this one (false: the two "
+        "images' candidates only)");
   r.Add("flow_median_px", &o->flow_median_px,
         "then each object's camera-size flow is median-filtered over a square of this side, "
         "working pixels, over the object's own pixels there (0 = off)");

@@ -204,7 +204,8 @@ bool AffineFill(const cv::Mat& labels, const cv::Mat& verdict, const cv::Mat& fl
 }  // namespace
 
 void RefineFlowAtCameraSize(const cv::Mat& labels, const cv::Mat& image_t, const cv::Mat& image_t1,
-                            int window_px, cv::Mat* flow, const cv::Mat& labels_t1) {
+                            int window_px, cv::Mat* flow, const cv::Mat& labels_t1,
+                            const cv::Mat& carried) {
   U4D_CHECK(window_px > 0 && window_px % 2 == 1,
             "RefineFlowAtCameraSize: the window must be odd and positive, got {}", window_px);
   U4D_CHECK(labels.type() == CV_16U && image_t.type() == CV_8UC3 && image_t1.type() == CV_8UC3 &&
@@ -216,6 +217,9 @@ void RefineFlowAtCameraSize(const cv::Mat& labels, const cv::Mat& image_t, const
             labels.cols, labels.rows);
   U4D_CHECK(labels_t1.empty() || (labels_t1.type() == CV_16U && labels_t1.size() == labels.size()),
             "RefineFlowAtCameraSize: the labels at t+1 must be CV_16U {}x{}", labels.cols,
+            labels.rows);
+  U4D_CHECK(carried.empty() || (carried.type() == CV_32FC2 && carried.size() == labels.size()),
+            "RefineFlowAtCameraSize: the carried flow must be CV_32FC2 {}x{}", labels.cols,
             labels.rows);
   if (cv::countNonZero(labels) == 0) return;
   if (labels.cols < kMinMatchSide && labels.rows < kMinMatchSide) return;
@@ -245,7 +249,36 @@ void RefineFlowAtCameraSize(const cv::Mat& labels, const cv::Mat& image_t, const
         ObjectMatches(labels, labels_t1, Grey(image_t), Grey(image_t1), roi, solved, &own);
     consider(matches, own & objects);
   }
+  if (!carried.empty()) consider(carried(roi), objects);
   best.copyTo(solved, objects);
+}
+
+cv::Mat CarriedObjectFlow(const cv::Mat& labels_prev, const cv::Mat& flow_prev,
+                          const cv::Mat& labels, const cv::Mat& flow) {
+  U4D_CHECK(labels_prev.type() == CV_16U && labels.type() == CV_16U &&
+                flow_prev.type() == CV_32FC2 && flow.type() == CV_32FC2,
+            "CarriedObjectFlow: expected CV_16U labels and CV_32FC2 flows");
+  U4D_CHECK(labels_prev.size() == labels.size() && flow_prev.size() == labels.size() &&
+                flow.size() == labels.size(),
+            "CarriedObjectFlow: the labels ({}x{}) and flows must have one size", labels.cols,
+            labels.rows);
+  cv::Mat sum = cv::Mat::zeros(labels.size(), CV_32FC2);
+  cv::Mat count = cv::Mat::zeros(labels.size(), CV_32S);
+  for (int y = 0; y < labels.rows; ++y)
+    for (int x = 0; x < labels.cols; ++x) {
+      const uint16_t id = labels_prev.at<uint16_t>(y, x);
+      const cv::Vec2f& f = flow_prev.at<cv::Vec2f>(y, x);
+      if (id == 0 || !LandsOn(labels, x, y, f, id)) continue;
+      const cv::Point q(cvRound(x + f[0]), cvRound(y + f[1]));
+      sum.at<cv::Vec2f>(q) += f;
+      ++count.at<int>(q);
+    }
+  cv::Mat carried = flow.clone();
+  for (int y = 0; y < labels.rows; ++y)
+    for (int x = 0; x < labels.cols; ++x)
+      if (const int n = count.at<int>(y, x); n > 0)
+        carried.at<cv::Vec2f>(y, x) = sum.at<cv::Vec2f>(y, x) / static_cast<float>(n);
+  return carried;
 }
 
 void FillInconsistentObjectFlow(const cv::Mat& labels, const cv::Mat& labels_t1,

@@ -30,6 +30,8 @@ namespace u4d {
 //    overlaps (a striped shirt matches one stripe over in either
 //    direction; dark trousers match anything). An object absent from
 //    `labels_t1` has no such candidate.
+//  - with `carried` (CV_32FC2, camera size; empty = none), that field: the
+//    motion of the frame before carried forward (CarriedObjectFlow below).
 // An image under 16 pixels on both sides keeps its flow. A field's error at
 // a pixel is |I_t1(p + f(p)) − I_t(p)| summed over the colour channels
 // (I_t1 bilinear, the border replicated).
@@ -38,7 +40,23 @@ namespace u4d {
 // CV_16U labels, BGR 8-bit images, CV_32FC2 flow. Throws u4d::Error on a
 // size or type mismatch or a window that is not odd and positive.
 void RefineFlowAtCameraSize(const cv::Mat& labels, const cv::Mat& image_t, const cv::Mat& image_t1,
-                            int window_px, cv::Mat* flow, const cv::Mat& labels_t1 = {});
+                            int window_px, cv::Mat* flow, const cv::Mat& labels_t1 = {},
+                            const cv::Mat& carried = {});
+
+// The objects' motion of the frame before, carried forward along itself
+// (constant velocity): a candidate for the pick above that the two images
+// alone do not offer. The paper's temporal coherence (Sec. 2.1.1) follows
+// each surface point through the sequence; a limb in flight keeps most of
+// its motion from one frame to the next, while in the pair (t, t+1) its
+// blurred, weakly textured pixels match a slower neighbour as well. Each
+// object pixel p of `labels_prev` (frame t-1, CV_16U) moves with its flow
+// `flow_prev` (t-1 -> t, CV_32FC2) to q = p + f(p), rounded; where q lies
+// in the image on the same object's `labels` at t, q takes that motion
+// again (the mean where several pixels reach q). Every other pixel keeps
+// `flow`'s motion, so that there the candidate never beats it. All four of
+// one size; throws u4d::Error on a size or type mismatch.
+cv::Mat CarriedObjectFlow(const cv::Mat& labels_prev, const cv::Mat& flow_prev,
+                          const cv::Mat& labels, const cv::Mat& flow);
 
 // The flow of every object pixel (`labels` > 0) becomes the per-component
 // median of the flows of the pixels of its own object in the `window_px`

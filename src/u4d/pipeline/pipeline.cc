@@ -257,6 +257,22 @@ void FrameMaps(const RunContext& c, SolvedFrame& s) {
 // area-averaged to the working resolution, also replaces s.flow on their
 // pixels: the scene flow (WriteFrameOutputs) moves the meshes with the finer
 // motion.
+// View v's written camera-size flow of frame s.frame - 1 carried forward to
+// s.frame (camera_flow.h CarriedObjectFlow) with frame_setup.
+// flow_carried_candidate, where that frame is in the run, continues into
+// s.frame and its instances and flow are in the scene folder; else empty.
+// Read from the folder rather than kept in memory, a resumed run carries the
+// same flow as an uninterrupted one.
+cv::Mat CarriedFlow(const RunContext& c, const SolvedFrame& s, int v) {
+  const int prev = s.frame - 1;
+  if (!c.o.frame_setup.flow_carried_candidate || prev < c.f0 || !c.Continues(s.frame)) return {};
+  const fs::path labels = c.out / layout::SceneInstances(c.names[v], prev);
+  const fs::path flow = c.out / layout::SceneFlow(c.names[v], prev);
+  if (!fs::exists(labels) || !fs::exists(flow)) return {};
+  const ViewMaps& maps = s.maps[v];
+  return CarriedObjectFlow(ReadLabelImage(labels), ReadFlo(flow), maps.labels, maps.flow);
+}
+
 void WriteFrameMaps(const RunContext& c, SolvedFrame& s, const std::vector<cv::Mat>& labels_t1) {
   for (size_t v = 0; v < s.labels.size(); ++v) {
     ViewMaps& maps = s.maps[v];
@@ -264,7 +280,7 @@ void WriteFrameMaps(const RunContext& c, SolvedFrame& s, const std::vector<cv::M
       const bool objects = c.o.frame_setup.flow_object_matches && v < labels_t1.size();
       RefineFlowAtCameraSize(maps.labels, s.full_images[v], s.full_images_t1[v],
                              c.o.frame_setup.flow_window_px, &maps.flow,
-                             objects ? labels_t1[v] : cv::Mat());
+                             objects ? labels_t1[v] : cv::Mat(), CarriedFlow(c, s, v));
       if (const int median = c.o.frame_setup.flow_median_px; median > 0)
         MedianFilterObjectFlow(maps.labels, OddSide(median / s.scale), &maps.flow);
       if (const int fill = c.o.frame_setup.flow_fill_radius_px; objects && fill > 0)

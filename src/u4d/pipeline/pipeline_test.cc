@@ -304,7 +304,13 @@ TEST(PipelineTest, ResumesAndRecoversFromAnInterruption) {
   EXPECT_TRUE(again.log.segment_parts.empty());  // no segment was solved again
 
   // An interruption inside the last segment leaves it unrecorded (run.json
-  // is written after a segment's files); the resumed run redoes that one only.
+  // is written after a segment's files); the resumed run redoes that one only,
+  // and its flow is the uninterrupted run's (the pick's carried candidate
+  // reads the frame before's flow back from the scene folder).
+  std::map<std::string, std::string> flows;
+  for (const auto& e : fs::recursive_directory_iterator(scene / "flow"))
+    if (e.is_regular_file()) flows[e.path().string()] = ReadTextFile(e.path());
+  ASSERT_FALSE(flows.empty());
   const SceneIndex index = ReadSceneIndex(scene);
   ASSERT_FALSE(index.segments.empty());
   RunLog log = ReadRunLog(scene);
@@ -317,6 +323,7 @@ TEST(PipelineTest, ResumesAndRecoversFromAnInterruption) {
   EXPECT_EQ(resumed.segments_skipped, resumed.segments - 1);
   EXPECT_TRUE(fs::exists(segment_json));
   EXPECT_EQ(ReadRunLog(scene).segments_done.size(), static_cast<size_t>(resumed.segments));
+  for (const auto& [path, bytes] : flows) EXPECT_TRUE(ReadTextFile(path) == bytes) << path;
 }
 
 // Frames 0-1 and frame 2 of a capture lie 100 s apart in the source
