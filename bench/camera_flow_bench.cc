@@ -9,8 +9,9 @@
 //   refine    RefineObjectFlowVariationally, the default iterations
 // then the steps' end on the brightness-constant pair (BrightnessConstantPair:
 // the estimators' own error, without the images'), the steps started from
-// the true flow (RunFromTruth: what each keeps of a perfect start), and
-// OpenCV's DeepFlow,
+// the true flow (RunFromTruth: what each keeps of a perfect start), frame
+// 1 -> 2 without and with frame 0's flow carried into the pick
+// (RunCarried), and OpenCV's DeepFlow,
 // DIS (medium) and Farneback on the whole image. Per
 // row: the people's EPE over the GT-valid pixels, the share off by more
 // than 10 px and within 1 px, the motion scale (the predicted motion's
@@ -70,15 +71,16 @@ struct Score {
   }
 };
 
-std::vector<View> ReadViews(const Capture& c) {
+// The views' frame f -> f + 1.
+std::vector<View> ReadViews(const Capture& c, int f) {
   std::vector<View> views;
   for (int v = 0; v < c.NumViews(); ++v) {
     const std::string& name = c.views[v].name;
-    views.push_back({ReadColorImage(c.ImagePath(v, 0)), ReadColorImage(c.ImagePath(v, 1)),
-                     ReadLabelImage(c.root / layout::GtInstances(name, 0)),
-                     ReadLabelImage(c.root / layout::GtInstances(name, 1)),
-                     ReadFlo(c.root / layout::GtFlow(name, 0)),
-                     ReadLabelImage(c.root / layout::GtFlowValid(name, 0))});
+    views.push_back({ReadColorImage(c.ImagePath(v, f)), ReadColorImage(c.ImagePath(v, f + 1)),
+                     ReadLabelImage(c.root / layout::GtInstances(name, f)),
+                     ReadLabelImage(c.root / layout::GtInstances(name, f + 1)),
+                     ReadFlo(c.root / layout::GtFlow(name, f)),
+                     ReadLabelImage(c.root / layout::GtFlowValid(name, f))});
   }
   return views;
 }
@@ -89,20 +91,24 @@ constexpr const char* kStepNames[kSteps] = {"pick", "median", "fill", "refine"};
 // The pipeline's camera-size steps at the default working width, those in
 // `steps` (indices into kStepNames) one after the other on every view, from
 // the solve's flow zero (or, with `from_truth`, from the true flow), each
-// step's score after it in scores[step].
+// step's score after it in scores[step]. `carried` (per view; empty = none)
+// is the pick's candidate carried from the frame before; `ends` receives
+// each view's flow after the last step.
 void RunSteps(const std::vector<View>& views, Score* scores,
-              const std::vector<int>& steps = {0, 1, 2, 3}, bool from_truth = false) {
+              const std::vector<int>& steps = {0, 1, 2, 3}, bool from_truth = false,
+              const std::vector<cv::Mat>& carried = {}, std::vector<cv::Mat>* ends = nullptr) {
   const FrameSetupOptions d;
   const double scale = static_cast<double>(d.working_width) / kWidth;
   const int median = std::max(1, cvRound(d.flow_median_px / scale)) | 1;
   const int radius = std::max(1, cvRound(d.flow_fill_radius_px / scale));
-  for (const View& v : views) {
+  for (size_t k = 0; k < views.size(); ++k) {
+    const View& v = views[k];
     cv::Mat flow = from_truth ? v.truth.clone() : cv::Mat::zeros(v.truth.size(), CV_32FC2);
     for (const int s : steps) {
       Timer timer;
       if (s == 0)
         RefineFlowAtCameraSize(v.labels, v.image_t, v.image_t1, d.flow_window_px, &flow,
-                               v.labels_t1);
+                               v.labels_t1, carried.empty() ? cv::Mat() : carried[k]);
       if (s == 1) MedianFilterObjectFlow(v.labels, median, &flow);
       if (s == 2)
         FillInconsistentObjectFlow(v.labels, v.labels_t1, v.image_t, v.image_t1, radius, &flow);
@@ -112,7 +118,26 @@ void RunSteps(const std::vector<View>& views, Score* scores,
       scores[s].seconds += timer.Seconds();
       scores[s].Add(v, flow);
     }
+    if (ends) ends->push_back(flow);
   }
+}
+
+// Frame 1 -> 2, the steps from zero without and with the pick's candidate
+// carried from frame 0 (camera_flow.h CarriedObjectFlow): `flows_0`, the
+// steps' own flow of frame 0 -> 1, carried along itself, as the pipeline
+// reads it back from the scene folder.
+void RunCarried(const std::string& world, const Capture& c, const std::vector<View>& frame_0,
+                const std::vector<cv::Mat>& flows_0, bench::Table* rows) {
+  Score without[kSteps], with[kSteps];
+  const std::vector<View> frame_1 = ReadViews(c, 1);
+  std::vector<cv::Mat> carried;
+  for (size_t k = 0; k < frame_1.size(); ++k)
+    carried.push_back(CarriedObjectFlow(frame_0[k].labels, flows_0[k], frame_1[k].labels,
+                                        cv::Mat::zeros(flows_0[k].size(), CV_32FC2)));
+  RunSteps(frame_1, without);
+  RunSteps(frame_1, with, {0, 1, 2, 3}, false, carried);
+  rows->Row(without[kSteps - 1].Cells(world, "all steps, frame 1 -> 2"));
+  rows->Row(with[kSteps - 1].Cells(world, "all steps, frame 1 -> 2, frame 0's flow carried"));
 }
 
 // The steps started from the true flow: what each keeps of a perfect start.
@@ -157,18 +182,21 @@ View BrightnessConstantPair(const View& v) {
 }
 
 void RunWorld(const std::string& world, bench::Table* rows) {
-  synth::SynthOptions o = bench::World(world, kViews, kWidth, kHeight, 2);
+  synth::SynthOptions o = bench::World(world, kViews, kWidth, kHeight, 3);
   if (world == "handshake") o.start_frame = 128;  // the people walk apart (docs/flow.md)
   const fs::path dir = synth::WriteCaptureToTempDir("camera_flow_bench_" + world, o);
-  const std::vector<View> views = ReadViews(ReadCapture(dir));
+  const Capture capture = ReadCapture(dir);
+  const std::vector<View> views = ReadViews(capture, 0);
   Score scores[kSteps], constant[kSteps];
-  RunSteps(views, scores);
+  std::vector<cv::Mat> flows_0;
+  RunSteps(views, scores, {0, 1, 2, 3}, false, {}, &flows_0);
   for (int s = 0; s < kSteps; ++s) rows->Row(scores[s].Cells(world, kStepNames[s]));
   std::vector<View> constant_views;
   for (const View& v : views) constant_views.push_back(BrightnessConstantPair(v));
   RunSteps(constant_views, constant);
   rows->Row(constant[kSteps - 1].Cells(world, "refine, brightness-constant pair"));
   RunFromTruth(world, views, rows);
+  RunCarried(world, capture, views, flows_0, rows);
   for (baselines::FlowBaseline b : baselines::AllFlowBaselines()) {
     Score score;
     for (const View& v : views) {
