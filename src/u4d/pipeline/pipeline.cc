@@ -248,6 +248,27 @@ void FrameMaps(const RunContext& c, SolvedFrame& s) {
   }
 }
 
+// View v's written camera-size flow of frame s.frame - 1, carried forward to
+// s.frame (camera_flow.h CarriedObjectFlow), with
+// frame_setup.flow_carried_candidate where that frame is in the run,
+// continues into s.frame and has its instances and flow in the scene
+// folder; else empty. Read from the folder rather than kept in memory, a
+// resumed run carries the same flow as an uninterrupted one. Throws naming
+// the files when they are damaged or not the view's size.
+cv::Mat CarriedFlow(const RunContext& c, const SolvedFrame& s, int v) {
+  const int prev = s.frame - 1;
+  if (!c.o.frame_setup.flow_carried_candidate || prev < c.f0 || !c.Continues(s.frame)) return {};
+  const fs::path labels = c.out / layout::SceneInstances(c.names[v], prev);
+  const fs::path flow = c.out / layout::SceneFlow(c.names[v], prev);
+  if (!fs::exists(labels) || !fs::exists(flow)) return {};
+  const ViewMaps& maps = s.maps[v];
+  const cv::Mat labels_prev = ReadLabelImage(labels), flow_prev = ReadFlo(flow);
+  U4D_CHECK(labels_prev.size() == maps.labels.size() && flow_prev.size() == maps.labels.size(),
+            "{} and {}: expected {}x{}, the view's size, as the frame before's maps",
+            labels.string(), flow.string(), maps.labels.cols, maps.labels.rows);
+  return CarriedObjectFlow(labels_prev, flow_prev, maps.labels, maps.flow);
+}
+
 // Writes the maps of frame s (FrameMaps) and lets them go. With
 // frame_setup.flow_at_camera_size the objects' flow first takes its
 // camera-size steps (camera_flow.h: the pick, the median, the
@@ -257,22 +278,6 @@ void FrameMaps(const RunContext& c, SolvedFrame& s) {
 // area-averaged to the working resolution, also replaces s.flow on their
 // pixels: the scene flow (WriteFrameOutputs) moves the meshes with the finer
 // motion.
-// View v's written camera-size flow of frame s.frame - 1 carried forward to
-// s.frame (camera_flow.h CarriedObjectFlow) with frame_setup.
-// flow_carried_candidate, where that frame is in the run, continues into
-// s.frame and its instances and flow are in the scene folder; else empty.
-// Read from the folder rather than kept in memory, a resumed run carries the
-// same flow as an uninterrupted one.
-cv::Mat CarriedFlow(const RunContext& c, const SolvedFrame& s, int v) {
-  const int prev = s.frame - 1;
-  if (!c.o.frame_setup.flow_carried_candidate || prev < c.f0 || !c.Continues(s.frame)) return {};
-  const fs::path labels = c.out / layout::SceneInstances(c.names[v], prev);
-  const fs::path flow = c.out / layout::SceneFlow(c.names[v], prev);
-  if (!fs::exists(labels) || !fs::exists(flow)) return {};
-  const ViewMaps& maps = s.maps[v];
-  return CarriedObjectFlow(ReadLabelImage(labels), ReadFlo(flow), maps.labels, maps.flow);
-}
-
 void WriteFrameMaps(const RunContext& c, SolvedFrame& s, const std::vector<cv::Mat>& labels_t1) {
   for (size_t v = 0; v < s.labels.size(); ++v) {
     ViewMaps& maps = s.maps[v];
