@@ -401,6 +401,36 @@ TEST(PipelineTest, AnErrorWritingOutputsInTheBackgroundFailsTheRun) {
   EXPECT_TRUE(log.segments_done.empty());
 }
 
+// The pick's carried candidate reads the frame before's flow back from the
+// scene folder (frame_setup.flow_carried_candidate). A resumed segment that
+// finds that file damaged (here: another size than the view's) stops with
+// an error naming it, and the finished segments' files stay.
+TEST(PipelineTest, ADamagedFlowOfTheFrameBeforeIsAnErrorNamingIt) {
+  const fs::path capture = SmallCapture();
+  const fs::path scene = test_util::FreshTestDir("pipeline", "carried_damaged");
+  RunOptions options = FastOptions();
+  options.frame_setup.working_width = 96;  // the bookkeeping is under test, not the quality
+  options.poses = PoseSource::kNone;
+  options.evaluate = false;
+  options.keyframes.threshold = 1.0;  // no two frames alike: a segment per frame
+  RunPipeline(capture, scene, options);
+  const SceneIndex index = ReadSceneIndex(scene);
+  const auto second = std::find_if(index.segments.begin(), index.segments.end(),
+                                   [](const SceneSegmentInfo& s) { return s.first == 1; });
+  ASSERT_NE(second, index.segments.end()) << "frame 1 starts a segment";
+  RunLog log = ReadRunLog(scene);
+  log.segments_done.erase(second->index);
+  WriteRunLog(scene, log);
+  const fs::path flow = scene / layout::SceneFlow("cam00", 0);
+  ASSERT_TRUE(fs::exists(flow));
+  WriteFlo(flow, cv::Mat::zeros(8, 8, CV_32FC2));
+  test_util::ExpectErrorMentions([&] { RunPipeline(capture, scene, options); },
+                                 {flow.filename().string(), "cam00"});
+  EXPECT_TRUE(fs::exists(scene / layout::SceneInstances("cam00", 0)));
+  EXPECT_TRUE(fs::exists(scene / layout::SceneMesh(1, 0)) ||
+              fs::exists(scene / layout::SceneMesh(2, 0)));
+}
+
 TEST(PipelineTest, CorruptFrameAndMismatchedOptionsFailClearly) {
   const fs::path capture = SmallCapture();
   const fs::path scene = test_util::FreshTestDir("pipeline", "corrupt");
