@@ -3,9 +3,10 @@
 // carries the working pixel's imprecision into every camera pixel; the
 // camera's image resolves the motion more finely. The paper's e_F^T
 // (brightness constancy, Sec. 2.1) decides, at the camera's size, between
-// the solve's motion and the camera-size dense matches (the whole image's
-// and each object's own), pixel by pixel; a median inside each object then
-// outvotes the pixels whose pick went wrong.
+// the solve's motion, the camera-size dense matches (the whole image's and
+// each object's own) and the frame before's motion carried forward, pixel
+// by pixel; a median inside each object then outvotes the pixels whose pick
+// went wrong.
 #pragma once
 
 #include <opencv2/core.hpp>
