@@ -36,7 +36,9 @@ std::vector<int> SampleIndices(int n, int m) {
   return out;
 }
 
-BackgroundModel MedianOfLab(const std::vector<cv::Mat>& labs) {
+// Per pixel, the median of `labs` over the frames whose `known[i]` (empty:
+// none) does not hold the pixel; over all frames where every frame holds it.
+BackgroundModel MedianOfLab(const std::vector<cv::Mat>& labs, const std::vector<cv::Mat>& known) {
   const int n = static_cast<int>(labs.size());
   const int rows = labs[0].rows, cols = labs[0].cols;
   BackgroundModel model;
@@ -44,19 +46,26 @@ BackgroundModel MedianOfLab(const std::vector<cv::Mat>& labs) {
   model.pixel_sigma.create(rows, cols, CV_32FC1);
   model.frames_used = n;
   tbb::parallel_for(0, rows, [&](int y) {
+    std::vector<const cv::Vec3b*> in(n);
     std::vector<uint8_t> v(n);
     std::vector<float> d(n);
     cv::Vec3b* out = model.lab.ptr<cv::Vec3b>(y);
     float* sig = model.pixel_sigma.ptr<float>(y);
     for (int x = 0; x < cols; ++x) {
+      int m = 0;
+      for (int i = 0; i < n; ++i)
+        if (known.empty() || known[i].empty() || !known[i].ptr<uint8_t>(y)[x])
+          in[m++] = labs[i].ptr<cv::Vec3b>(y) + x;
+      if (m == 0)
+        for (int i = 0; i < n; ++i) in[m++] = labs[i].ptr<cv::Vec3b>(y) + x;
       for (int c = 0; c < 3; ++c) {
-        for (int i = 0; i < n; ++i) v[i] = labs[i].ptr<cv::Vec3b>(y)[x][c];
-        std::nth_element(v.begin(), v.begin() + n / 2, v.end());
-        out[x][c] = v[n / 2];
+        for (int i = 0; i < m; ++i) v[i] = (*in[i])[c];
+        std::nth_element(v.begin(), v.begin() + m / 2, v.begin() + m);
+        out[x][c] = v[m / 2];
       }
-      for (int i = 0; i < n; ++i) d[i] = LabDistance(labs[i].ptr<cv::Vec3b>(y)[x], out[x]);
-      std::nth_element(d.begin(), d.begin() + n / 2, d.end());
-      sig[x] = static_cast<float>(d[n / 2] / kChi3Median);
+      for (int i = 0; i < m; ++i) d[i] = LabDistance(*in[i], out[x]);
+      std::nth_element(d.begin(), d.begin() + m / 2, d.begin() + m);
+      sig[x] = static_cast<float>(d[m / 2] / kChi3Median);
     }
   });
   // Global noise level: the median of the per-pixel levels (histogram, 0.05 bins).
@@ -101,6 +110,23 @@ std::vector<cv::Mat> SampledLabs(int num_frames, const std::function<cv::Mat(int
     labs.push_back(ToLab(frame));
   }
   return labs;
+}
+
+// known_foreground(i) of the frames SampledLabs samples (CV_8U, the size of
+// `labs[0]`); none without a function.
+std::vector<cv::Mat> SampledKnown(int num_frames,
+                                  const std::function<cv::Mat(int)>& known_foreground,
+                                  const BackgroundOptions& options, const cv::Size& size) {
+  std::vector<cv::Mat> known;
+  if (!known_foreground) return known;
+  for (const int i : SampleIndices(num_frames, options.max_frames)) {
+    cv::Mat mask = known_foreground(i);
+    U4D_CHECK(mask.empty() || (mask.type() == CV_8UC1 && mask.size() == size),
+              "EstimateBackground: frame {}'s known foreground is not a {}x{} CV_8U mask", i,
+              size.width, size.height);
+    known.push_back(std::move(mask));
+  }
+  return known;
 }
 
 // Per pixel, whether at least envelope_min_frames of `labs` have it in their
@@ -152,11 +178,13 @@ void BackgroundOptions::Check() const {
 }
 
 BackgroundModel EstimateBackground(int num_frames, const std::function<cv::Mat(int)>& read_frame,
-                                   const BackgroundOptions& options) {
+                                   const BackgroundOptions& options,
+                                   const std::function<cv::Mat(int)>& known_foreground) {
   options.Check();
   const std::vector<cv::Mat> labs =
       SampledLabs(num_frames, read_frame, options, "EstimateBackground");
-  BackgroundModel model = MedianOfLab(labs);
+  BackgroundModel model =
+      MedianOfLab(labs, SampledKnown(num_frames, known_foreground, options, labs[0].size()));
   if (options.envelope) model.envelope = Envelope(labs, model, options);
   return model;
 }
@@ -170,7 +198,7 @@ BackgroundModel BackgroundFromPlate(const std::vector<cv::Mat>& plate, int num_f
   const std::vector<cv::Mat> plate_labs = SampledLabs(
       static_cast<int>(plate.size()), [&](int i) { return plate[i]; }, options,
       "BackgroundFromPlate: clean plate");
-  BackgroundModel model = MedianOfLab(plate_labs);
+  BackgroundModel model = MedianOfLab(plate_labs, {});
   const std::vector<cv::Mat> labs =
       SampledLabs(num_frames, read_frame, options, "BackgroundFromPlate");
   U4D_CHECK(labs[0].size() == plate_labs[0].size(),

@@ -140,8 +140,15 @@ BackgroundModel EstimateBackground(const std::vector<cv::Mat>& frames,
                                    const BackgroundOptions& options = {});
 // The same, reading frame k in [0, num_frames) through `read_frame` (e.g. a
 // FrameReader); only the sampled frames are read, in increasing order.
+// Where `known_foreground` is given, known_foreground(k) (CV_8U, nonzero =
+// a person or object is known to cover the pixel, e.g. given masks; empty =
+// nothing known) leaves frame k out of that pixel's median and noise level:
+// a person who stands on a pixel in most frames is not its background. A
+// pixel covered in every sampled frame keeps the median of all of them.
+// Throws when a known mask is not CV_8U of the frames' size.
 BackgroundModel EstimateBackground(int num_frames, const std::function<cv::Mat(int)>& read_frame,
-                                   const BackgroundOptions& options = {});
+                                   const BackgroundOptions& options = {},
+                                   const std::function<cv::Mat(int)>& known_foreground = {});
 
 // From a clean plate (io/clean_plate.h: the empty stage filmed from the
 // view, one picture or a few frames) instead of the capture's own frames, so

@@ -2,6 +2,7 @@
 #include "u4d/pipeline/early_stages.h"
 
 #include <algorithm>
+#include <functional>
 #include <optional>
 
 #include <fmt/format.h>
@@ -108,17 +109,21 @@ std::vector<std::optional<PeoplePositions>> NextFramePeople(RunContext& c) {
   return hints;
 }
 
+// View v's given mask of `frame`; empty without a mask file.
+InstanceMask ReadGivenMask(const RunContext& c, int v, int frame) {
+  const fs::path png = c.cap.root / layout::Mask(c.names[v], frame);
+  if (!fs::exists(png)) return {};
+  InstanceMask mask = ReadInstanceMask(png, c.cap.root / layout::MaskInfo(c.names[v], frame));
+  CheckImageSize(mask.ids, c.cap.views[v].CameraAt(frame).width,
+                 c.cap.views[v].CameraAt(frame).height, png.string());
+  return mask;
+}
+
 }  // namespace
 
 std::vector<InstanceMask> ReadGivenMasks(const RunContext& c, int frame) {
   std::vector<InstanceMask> masks(c.NumViews());
-  for (int v = 0; v < c.NumViews(); ++v) {
-    const fs::path png = c.cap.root / layout::Mask(c.names[v], frame);
-    if (!fs::exists(png)) continue;
-    masks[v] = ReadInstanceMask(png, c.cap.root / layout::MaskInfo(c.names[v], frame));
-    CheckImageSize(masks[v].ids, c.cap.views[v].CameraAt(frame).width,
-                   c.cap.views[v].CameraAt(frame).height, png.string());
-  }
+  for (int v = 0; v < c.NumViews(); ++v) masks[v] = ReadGivenMask(c, v, frame);
   return masks;
 }
 
@@ -167,20 +172,35 @@ std::vector<std::vector<Pose3d>> ReadScenePoses(const RunContext& c) {
 
 // ---- initial objects ----
 
+namespace {
+
+// Each view's background or key, for the unsupervised masks or the
+// unlabelled-objects step. With given masks, the background's median leaves
+// out the pixels their instances explain (ExplainedPixels).
+void ReadViewStages(RunContext& c, std::vector<BackgroundModel>* backgrounds,
+                    std::vector<ChromaKey>* keys) {
+  for (int v = 0; v < c.NumViews(); ++v) {
+    U4D_CHECK(!c.cap.views[v].IsMoving(),
+              "view {} moves: unsupervised masks need static cameras (give masks/ instead)",
+              c.names[v]);
+    std::function<cv::Mat(int)> known;
+    if (c.masks == MaskSource::kGiven)
+      known = [&c, v](int f) { return ExplainedPixels(ReadGivenMask(c, v, f), c.o.unlabelled); };
+    ViewStage stage = ReadViewStage(
+        c.cap, v, [&](int f) { return c.reader.Read(v, f); }, c.o.background, c.o.chroma_key,
+        known);
+    backgrounds->push_back(std::move(stage.background));
+    keys->push_back(stage.key);
+  }
+}
+
+}  // namespace
+
 int ComputeInitialObjects(RunContext& c, const std::vector<std::vector<Pose3d>>& poses) {
   std::vector<BackgroundModel> backgrounds;
   std::vector<ChromaKey> keys;
-  if (c.masks == MaskSource::kUnsupervised || FindsUnlabelledObjects(c)) {
-    for (int v = 0; v < c.NumViews(); ++v) {
-      U4D_CHECK(!c.cap.views[v].IsMoving(),
-                "view {} moves: unsupervised masks need static cameras (give masks/ instead)",
-                c.names[v]);
-      ViewStage stage = ReadViewStage(
-          c.cap, v, [&](int f) { return c.reader.Read(v, f); }, c.o.background, c.o.chroma_key);
-      backgrounds.push_back(std::move(stage.background));
-      keys.push_back(stage.key);
-    }
-  }
+  if (c.masks == MaskSource::kUnsupervised || FindsUnlabelledObjects(c))
+    ReadViewStages(c, &backgrounds, &keys);
   ObjectLinker linker;  // with poses it names the objects that are not people, after them
   linker.options = c.o.link;
   // Without poses the people come from the ground step and the objects of

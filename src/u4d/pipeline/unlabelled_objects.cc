@@ -39,15 +39,20 @@ cv::Mat UnexplainedInView(const cv::Mat& image, const BackgroundModel* backgroun
   // Where a median background holds a person who has since moved (init.h step 5).
   if (!key && init.still.remove_ghosts)
     foreground = RemoveGhosts(image, foreground, *background, init);
-  const int margin = options.margin_px > 0 ? options.margin_px : std::max(1, image.rows / 60);
-  cv::Mat explained;
-  cv::dilate(given.ids > 0, explained,
-             cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * margin + 1, 2 * margin + 1}));
-  foreground.setTo(0, explained);
+  foreground.setTo(0, ExplainedPixels(given, options));
   return foreground;
 }
 
 }  // namespace
+
+cv::Mat ExplainedPixels(const InstanceMask& given, const UnlabelledObjectOptions& options) {
+  if (given.ids.empty()) return {};
+  const int margin = options.margin_px > 0 ? options.margin_px : std::max(1, given.ids.rows / 60);
+  cv::Mat explained;
+  cv::dilate(given.ids > 0, explained,
+             cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * margin + 1, 2 * margin + 1}));
+  return explained;
+}
 
 std::vector<cv::Mat> UnexplainedForeground(const std::vector<Camera>& cameras,
                                            const std::vector<cv::Mat>& images,

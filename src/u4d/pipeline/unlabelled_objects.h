@@ -49,6 +49,13 @@ struct UnlabelledObjectOptions {
   void Check() const;  // throws u4d::Error naming the bad field
 };
 
+// CV_8U, 255 where an instance of `given` lies within margin_px: the pixels
+// its instances explain. Empty for a view without a mask. The background
+// median leaves these pixels out of the frame's vote (init.h
+// EstimateBackground), so that a person who stood on a pixel in most frames
+// does not leave a ghost there that would become an object.
+cv::Mat ExplainedPixels(const InstanceMask& given, const UnlabelledObjectOptions& options);
+
 // Per view: CV_8U (255 = the foreground of `images[v]` that no instance of
 // `given[v]` explains and the other views confirm). `backgrounds[v]` is
 // used for a view that `keys` (empty = none) does not key; a keyed view's

@@ -12,7 +12,8 @@ namespace u4d {
 
 ViewStage ReadViewStage(const Capture& capture, int v,
                         const std::function<cv::Mat(int)>& read_frame,
-                        const BackgroundOptions& background, const ChromaKeyOptions& chroma) {
+                        const BackgroundOptions& background, const ChromaKeyOptions& chroma,
+                        const std::function<cv::Mat(int)>& known_foreground) {
   const std::string& name = capture.views[v].name;
   ViewStage stage;
   if (chroma.mode != ChromaKeyOptions::Mode::kOff) {
@@ -30,7 +31,8 @@ ViewStage ReadViewStage(const Capture& capture, int v,
   const Camera& cam = capture.views[v].CameraAt(0);
   const std::vector<cv::Mat> plate = ReadCleanPlate(capture.root, name, cam.width, cam.height);
   if (plate.empty()) {
-    stage.background = EstimateBackground(capture.num_frames, read_frame, background);
+    stage.background =
+        EstimateBackground(capture.num_frames, read_frame, background, known_foreground);
   } else {
     fmt::print("[initial] view {}: background from its clean plate ({} frames)\n", name,
                plate.size());

@@ -22,10 +22,13 @@ struct ViewStage {
 
 // View `v` of `capture` (static), frame f read by `read_frame(f)`. The key
 // is chosen (ChooseChromaKey) from up to chroma.max_frames frames spread
-// evenly over the capture unless chroma.mode is off. Prints one line per
-// keyed view or clean plate used. Throws what its steps throw.
+// evenly over the capture unless chroma.mode is off. Without a clean plate,
+// `known_foreground` (may be empty) tells the median which pixels of frame f
+// a given mask covers (EstimateBackground). Prints one line per keyed view or
+// clean plate used. Throws what its steps throw.
 ViewStage ReadViewStage(const Capture& capture, int v,
                         const std::function<cv::Mat(int)>& read_frame,
-                        const BackgroundOptions& background, const ChromaKeyOptions& chroma);
+                        const BackgroundOptions& background, const ChromaKeyOptions& chroma,
+                        const std::function<cv::Mat(int)>& known_foreground = {});
 
 }  // namespace u4d
