@@ -34,15 +34,17 @@ Vote VoteOf(const Voter& u, const Eigen::Vector3d& X) {
   return u.labels->at<uint16_t>(q->y(), q->x()) != 0 ? Vote::kOnOther : Vote::kOnBackground;
 }
 
-// True when X is on the object's leave-one-out hull (header contract).
-bool Supported(const std::vector<Voter>& voters, const Eigen::Vector3d& X, int min_views) {
-  int on = 0;
+// True when X is on the object's leave-one-out hull (header contract), with
+// at most `max_background` views putting it on the background.
+bool Supported(const std::vector<Voter>& voters, const Eigen::Vector3d& X, int min_views,
+               int max_background) {
+  int on = 0, background = 0;
   for (const Voter& u : voters) {
     const Vote vote = VoteOf(u, X);
-    if (vote == Vote::kOnBackground) return false;
+    if (vote == Vote::kOnBackground && ++background > max_background) return false;
     if (vote == Vote::kOnObject) ++on;
   }
-  return on >= min_views;
+  return on - background >= min_views;
 }
 
 // `tolerance` > 0 dilates each other view's object labels, < 0 erodes them.
@@ -90,6 +92,8 @@ bool Claims(const HullObject& obj, int label) {
 
 void HullSupportOptions::Check() const {
   U4D_CHECK(min_views >= 1, "HullSupportOptions.min_views must be >= 1, got {}", min_views);
+  U4D_CHECK(max_background_views >= 0,
+            "HullSupportOptions.max_background_views must be >= 0, got {}", max_background_views);
   U4D_CHECK(mask_tolerance_px >= 0, "HullSupportOptions.mask_tolerance_px must be >= 0, got {}",
             mask_tolerance_px);
   U4D_CHECK(depth_samples >= 2, "HullSupportOptions.depth_samples must be >= 2, got {}",
@@ -163,7 +167,12 @@ void CastRays(const std::vector<Camera>& cameras, const std::vector<cv::Mat>& la
       const Eigen::Vector2d pixel((gx + 0.5) / f - 0.5, (gy + 0.5) / f - 0.5);
       const int x = std::clamp(static_cast<int>(std::lround(pixel.x())), 0, cam.width - 1);
       const int y = std::clamp(static_cast<int>(std::lround(pixel.y())), 0, cam.height - 1);
-      if (!tested(own.at<uint16_t>(y, x))) continue;
+      const int own_label = own.at<uint16_t>(y, x);
+      if (!tested(own_label)) continue;
+      // Only a part the view puts on the background may have a dissenting
+      // view (header): over another object's pixels, and to confirm a
+      // label, every view must agree.
+      const int max_background = own_label == 0 ? options.max_background_views : 0;
       // The ray's point at depth z is centre + z * step (undistorted once per ray).
       const Eigen::Vector3d centre = cam.Center();
       const Eigen::Vector3d step = cam.Unproject(pixel, 1.0) - centre;
@@ -172,7 +181,7 @@ void CastRays(const std::vector<Camera>& cameras, const std::vector<cv::Mat>& la
             obj.depth_near + (obj.depth_far - obj.depth_near) * k / (options.depth_samples - 1);
         double& nearest = grid->nearest.at<double>(gy, gx);
         if (!grid->count_all && z >= nearest) break;
-        if (!Supported(voters, centre + z * step, options.min_views)) continue;
+        if (!Supported(voters, centre + z * step, options.min_views, max_background)) continue;
         if (grid->count_all) ++grid->met.at<uint8_t>(gy, gx);
         if (z < nearest) grid->support.at<uint16_t>(gy, gx) = static_cast<uint16_t>(obj.id);
         nearest = std::min(nearest, z);

@@ -8,10 +8,11 @@
 // [depth_near, depth_far] in v, supports object o when, over the other views u
 // that hold o (some pixel of o in u's labels) and see X (in front of u, inside
 // its image):
-//   - no u puts X on the background (an occluder's pixels, another object's
-//     label, do not count against o: o may be behind it), and
-//   - at least `min_views` of them put X on o (o's labels dilated by
-//     `mask_tolerance_px`).
+//   - at most `max_background_views` of them put X on the background (an
+//     occluder's pixels, another object's label, do not count against o: o
+//     may be behind it), and
+//   - those that put X on o (o's labels dilated by `mask_tolerance_px`)
+//     outnumber those on the background by at least `min_views`.
 // The paper restores missing limbs by dilating towards the 3D joints; this is
 // the same role when no pose is given, and an addition to the capsules when
 // one is (frame_setup.h). Only pixels that v's labels put on the background,
@@ -44,7 +45,17 @@ namespace u4d {
 
 struct HullSupportOptions {
   bool enabled = true;
-  int min_views = 3;          // other views that must put a point on the object
+  int min_views = 3;  // other views that must put a point on the object
+  // Other views that may put a supported point on the background, at a
+  // pixel the view itself puts there: a detector drops a limb in several
+  // views of a frame, and one view that dropped it too would otherwise carve
+  // it out of the others' hull. Each such view is outvoted (above): one
+  // more view must hold the point. Over another object's pixels (claims)
+  // and for HullConfirmation every view must agree: the hull a dissent
+  // allows is larger, and a person's larger hull would claim the other
+  // person's shoes where they look alike. 0 by default: the larger hull
+  // also adds false positives next to the body (docs/joint.md).
+  int max_background_views = 0;
   int mask_tolerance_px = 2;  // the other views' object labels dilated by this (pixels)
   int depth_samples = 64;     // depths tested per ray, even in depth over the object's range
   // E_a also samples the supported pixels as their object (they are never

@@ -48,6 +48,29 @@ double Covered(const cv::Mat& support, const cv::Mat& part) {
 }
 
 const std::vector<HullObject> kObject = {{1, 3.5, 5.5, {}}};  // the ring's radius is 4.5 m
+
+// One other view may put a supported point on the background (the
+// default is none: every other view that sees a point must agree).
+HullSupportOptions OneDissent() {
+  HullSupportOptions o;
+  o.max_background_views = 1;
+  return o;
+}
+
+// Pixels of `support` (object 1) beyond the figure dilated by 4 px, as a
+// share of the figure's pixels.
+double Beyond(const cv::Mat& support, const cv::Mat& figure) {
+  cv::Mat near_truth;
+  cv::dilate(figure, near_truth, cv::Mat::ones(9, 9, CV_8U));
+  return static_cast<double>(cv::countNonZero((support == 1) & ~near_truth)) /
+         cv::countNonZero(figure);
+}
+
+// The hull of 7 views is a little larger than the figure (the strict one by
+// up to 5 % of its pixels); where one view may dissent, a point seen by few
+// views is carved by fewer, and the hull is larger (up to 15 %): never a
+// blob around the figure.
+constexpr double kStrictBeyond = 0.05, kBeyond = 0.15;
 // View 2 sees the arm from the side (view 0 looks along it).
 constexpr int kRef = 2;
 
@@ -57,14 +80,13 @@ TEST(HullSupportTest, APartCutFromOneViewComesBackFromTheOthers) {
   const cv::Mat cut = s.arm[ref] & ~s.body[ref];
   ASSERT_GT(cv::countNonZero(cut), 50) << "the arm must show beside the body in the view";
   s.labels[ref].setTo(0, cut);
-  const cv::Mat support = HullSupport(s.cameras, s.labels, ref, kObject);
+  const cv::Mat strict = HullSupport(s.cameras, s.labels, ref, kObject);
+  const cv::Mat support = HullSupport(s.cameras, s.labels, ref, kObject, OneDissent());
   EXPECT_GE(Covered(support, cut), 0.7);
-  // It does not spread far beyond the true silhouette: the hull of 7 views
-  // is a little larger than the figure, never a blob around it.
-  cv::Mat near_truth;
-  cv::dilate(s.body[ref] | s.arm[ref], near_truth, cv::Mat::ones(9, 9, CV_8U));
-  const int outside = cv::countNonZero((support == 1) & ~near_truth);
-  EXPECT_LE(outside, 0.05 * cv::countNonZero(s.body[ref] | s.arm[ref]));
+  EXPECT_GE(Covered(strict, cut), 0.7);
+  // It does not spread far beyond the true silhouette.
+  EXPECT_LE(Beyond(support, s.body[ref] | s.arm[ref]), kBeyond);
+  EXPECT_LE(Beyond(strict, s.body[ref] | s.arm[ref]), kStrictBeyond);
   // Pixels the view already labels are not in the map.
   EXPECT_EQ(cv::countNonZero((support != 0) & (s.labels[ref] != 0)), 0);
 }
@@ -73,8 +95,18 @@ TEST(HullSupportTest, APartNoOtherViewHoldsDoesNotComeBack) {
   Scene s = MakeScene();
   for (size_t v = 0; v < s.cameras.size(); ++v) s.labels[v].setTo(0, s.arm[v] & ~s.body[v]);
   const cv::Mat cut = s.arm[kRef] & ~s.body[kRef];
-  const cv::Mat support = HullSupport(s.cameras, s.labels, kRef, kObject);
-  EXPECT_LE(Covered(support, cut), 0.1);
+  EXPECT_LE(Covered(HullSupport(s.cameras, s.labels, kRef, kObject), cut), 0.1);
+  // Where one view may dissent, the larger hull reaches into the arm's
+  // pixels next to the body, not beyond the third of the arm nearest it.
+  cv::Mat dist;
+  cv::distanceTransform(~s.body[kRef], dist, cv::DIST_L2, 3);
+  double reach = 0;
+  cv::minMaxLoc(dist, nullptr, &reach, nullptr, nullptr, cut);
+  const cv::Mat far = cut & (dist > reach / 3);
+  const cv::Mat support = HullSupport(s.cameras, s.labels, kRef, kObject, OneDissent());
+  std::printf("[hull] no view holds the arm: %.2f of it supported, %.2f of its far two thirds\n",
+              Covered(support, cut), Covered(support, far));
+  EXPECT_LE(Covered(support, far), 0.1);
 }
 
 TEST(HullSupportTest, AnOccluderInAnotherViewDoesNotVetoTheObject) {
@@ -87,6 +119,28 @@ TEST(HullSupportTest, AnOccluderInAnotherViewDoesNotVetoTheObject) {
   EXPECT_GE(Covered(support, cut), 0.7);
 }
 
+// The detector dropped the arm in the reference view and in one other view
+// (view 6, which sees it beside the body): with the strict hull that one
+// view carves the arm away; allowing one view on the background, the five
+// others that hold it outvote it and bring the arm back.
+TEST(HullSupportTest, OneOtherViewThatDroppedThePartTooNeedNotVetoIt) {
+  Scene s = MakeScene();
+  const cv::Mat cut = s.arm[kRef] & ~s.body[kRef];
+  s.labels[kRef].setTo(0, cut);
+  constexpr int kAlsoDropped = 6;
+  ASSERT_GT(cv::countNonZero(s.arm[kAlsoDropped] & ~s.body[kAlsoDropped]), 50);
+  s.labels[kAlsoDropped].setTo(0, s.arm[kAlsoDropped] & ~s.body[kAlsoDropped]);
+  EXPECT_LE(Covered(HullSupport(s.cameras, s.labels, kRef, kObject), cut), 0.1);
+  const cv::Mat support = HullSupport(s.cameras, s.labels, kRef, kObject, OneDissent());
+  EXPECT_GE(Covered(support, cut), 0.7);
+  EXPECT_LE(Beyond(support, s.body[kRef] | s.arm[kRef]), kBeyond);
+  // Over another object's pixels that the object claims, every view must
+  // agree: where the view gives the arm to object 2, view 6 vetoes it.
+  s.labels[kRef].setTo(2, cut);
+  const std::vector<HullObject> claiming = {{1, 3.5, 5.5, {2}}};
+  EXPECT_LE(Covered(HullSupport(s.cameras, s.labels, kRef, claiming, OneDissent()), cut), 0.1);
+}
+
 // The whole figure missed in the reference view (its labels empty there):
 // the object is searched over the whole image, and its hull from the other
 // views gives it back.
@@ -96,9 +150,10 @@ TEST(HullSupportTest, AnObjectMissedInTheViewIsFoundFromTheOthers) {
   const cv::Mat figure = s.body[kRef] | s.arm[kRef];
   const cv::Mat support = HullSupport(s.cameras, s.labels, kRef, kObject);
   EXPECT_GE(Covered(support, figure), 0.9);
-  cv::Mat near_truth;
-  cv::dilate(figure, near_truth, cv::Mat::ones(9, 9, CV_8U));
-  EXPECT_LE(cv::countNonZero((support == 1) & ~near_truth), 0.05 * cv::countNonZero(figure));
+  EXPECT_LE(Beyond(support, figure), kStrictBeyond);
+  const cv::Mat tolerant = HullSupport(s.cameras, s.labels, kRef, kObject, OneDissent());
+  EXPECT_GE(Covered(tolerant, figure), 0.9);
+  EXPECT_LE(Beyond(tolerant, figure), kBeyond);
 }
 
 // The "arm" is an object of its own (id 2, a box the person holds) in every
@@ -220,6 +275,9 @@ TEST(HullSupportTest, BadInputIsAnError) {
   HullSupportOptions bad;
   bad.min_views = 0;
   EXPECT_THROW(HullSupport(s.cameras, s.labels, 0, kObject, bad), Error);
+  HullSupportOptions negative;
+  negative.max_background_views = -1;
+  EXPECT_THROW(negative.Check(), Error);
 }
 
 }  // namespace

@@ -52,6 +52,9 @@ void DeclareOptions(OptionRegistry& r, HullSupportOptions* o) {
         "grow each object's region by its leave-one-out visual hull from the other views, and "
         "let E_sem not prefer the background there (parts the view's mask missed)");
   r.Add("min_views", &o->min_views, "other views that must put a hull point on the object");
+  r.Add("max_background_views", &o->max_background_views,
+        "other views that may put a hull point on the background (a part the detector dropped in "
+        "several views)");
   r.Add("mask_tolerance_px", &o->mask_tolerance_px,
         "the other views' object labels are dilated by this (working pixels)");
   r.Add("depth_samples", &o->depth_samples, "depths tested per ray over the object's range");
