@@ -46,7 +46,14 @@ BackgroundModel MedianOfLab(const std::vector<cv::Mat>& labs, const std::vector<
   model.pixel_sigma.create(rows, cols, CV_32FC1);
   model.frames_used = n;
   tbb::parallel_for(0, rows, [&](int y) {
-    std::vector<const cv::Vec3b*> in(n);
+    // Row pointers, once per row: the frames' pixels and their known masks
+    // (nullptr: nothing known in that frame).
+    std::vector<const cv::Vec3b*> row(n), in(n);
+    std::vector<const uint8_t*> known_row(n, nullptr);
+    for (int i = 0; i < n; ++i) {
+      row[i] = labs[i].ptr<cv::Vec3b>(y);
+      if (!known.empty() && !known[i].empty()) known_row[i] = known[i].ptr<uint8_t>(y);
+    }
     std::vector<uint8_t> v(n);
     std::vector<float> d(n);
     cv::Vec3b* out = model.lab.ptr<cv::Vec3b>(y);
@@ -54,10 +61,9 @@ BackgroundModel MedianOfLab(const std::vector<cv::Mat>& labs, const std::vector<
     for (int x = 0; x < cols; ++x) {
       int m = 0;
       for (int i = 0; i < n; ++i)
-        if (known.empty() || known[i].empty() || !known[i].ptr<uint8_t>(y)[x])
-          in[m++] = labs[i].ptr<cv::Vec3b>(y) + x;
+        if (!known_row[i] || !known_row[i][x]) in[m++] = row[i] + x;
       if (m == 0)
-        for (int i = 0; i < n; ++i) in[m++] = labs[i].ptr<cv::Vec3b>(y) + x;
+        for (int i = 0; i < n; ++i) in[m++] = row[i] + x;
       for (int c = 0; c < 3; ++c) {
         for (int i = 0; i < m; ++i) v[i] = (*in[i])[c];
         std::nth_element(v.begin(), v.begin() + m / 2, v.begin() + m);

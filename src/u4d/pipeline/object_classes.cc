@@ -1,6 +1,8 @@
 #include "u4d/pipeline/object_classes.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <vector>
 
 #include "u4d/io/layout.h"
 #include "u4d/util/check.h"
@@ -60,15 +62,18 @@ std::vector<InstanceMask> KeepInstances(const std::vector<InstanceMask>& masks, 
   std::vector<InstanceMask> out(masks.size());
   for (size_t v = 0; v < masks.size(); ++v) {
     if (masks[v].ids.empty()) continue;
-    std::map<int, int> keep;  // id -> 1 when kept
+    std::vector<uint8_t> keep(65536, 0);  // per id (CV_16U), 1 when kept
     for (const InstanceInfo& info : masks[v].instances)
       if (IsPersonClass(info.label) == people) {
         out[v].instances.push_back(info);
-        keep[info.id] = 1;
+        keep[static_cast<uint16_t>(info.id)] = 1;
       }
     out[v].ids = masks[v].ids.clone();
-    for (auto it = out[v].ids.begin<uint16_t>(); it != out[v].ids.end<uint16_t>(); ++it)
-      if (*it && !keep.count(*it)) *it = 0;
+    for (int y = 0; y < out[v].ids.rows; ++y) {
+      uint16_t* row = out[v].ids.ptr<uint16_t>(y);
+      for (int x = 0; x < out[v].ids.cols; ++x)
+        if (!keep[row[x]]) row[x] = 0;
+    }
   }
   return out;
 }
