@@ -28,9 +28,17 @@ struct Found {
   int added = 0;
 };
 
-// View v's given mask of frame f.
-InstanceMask GivenMask(const fs::path& capture, const std::string& view, int f) {
-  return ReadInstanceMask(capture / layout::Mask(view, f), capture / layout::MaskInfo(view, f));
+// A view's given mask of frame f without the class `drop` (none when
+// empty), as a detector that does not know it gives it; empty without a mask
+// file (the pipeline's ReadGivenMasks).
+InstanceMask GivenMask(const fs::path& capture, const std::string& view, int f,
+                       const std::string& drop) {
+  if (!fs::exists(capture / layout::Mask(view, f))) return {};
+  InstanceMask mask =
+      ReadInstanceMask(capture / layout::Mask(view, f), capture / layout::MaskInfo(view, f));
+  for (const InstanceInfo& info : mask.instances)
+    if (info.label == drop) mask.ids.setTo(0, mask.ids == info.id);
+  return mask;
 }
 
 // Frames [first, last] of `capture` (last < 0: num_frames - 2), masks
@@ -45,7 +53,8 @@ Found FindIn(const fs::path& capture, const std::string& drop, bool known = true
   for (int v = 0; v < cap.NumViews(); ++v) {
     const std::string& name = cap.views[v].name;
     std::function<cv::Mat(int)> explained;
-    if (known) explained = [&](int f) { return ExplainedPixels(GivenMask(capture, name, f), {}); };
+    if (known)
+      explained = [&](int f) { return ExplainedPixels(GivenMask(capture, name, f, drop), {}); };
     backgrounds.push_back(ReadViewStage(
                               cap, v, [&](int f) { return reader.Read(v, f); }, {}, {}, explained)
                               .background);
@@ -59,10 +68,7 @@ Found FindIn(const fs::path& capture, const std::string& drop, bool known = true
       const std::string& name = cap.views[v].name;
       cams.push_back(cap.views[v].CameraAt(f));
       images.push_back(reader.Read(v, f));
-      if (!fs::exists(capture / layout::Mask(name, f))) continue;
-      given[v] = GivenMask(capture, name, f);
-      for (const InstanceInfo& info : given[v].instances)
-        if (info.label == drop) given[v].ids.setTo(0, given[v].ids == info.id);
+      given[v] = GivenMask(capture, name, f, drop);
     }
     const size_t num_given = given.size();
     std::vector<size_t> before(num_given);
