@@ -13,6 +13,7 @@
 #include <open3d/geometry/TriangleMesh.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <tbb/task_group.h>
 #include <opencv2/imgproc.hpp>
 
@@ -235,7 +236,7 @@ int OddSide(double side) {
 // the flow's camera-size step.
 void FrameMaps(const RunContext& c, SolvedFrame& s) {
   s.maps.resize(s.labels.size());
-  for (size_t v = 0; v < s.labels.size(); ++v) {
+  tbb::parallel_for(size_t{0}, s.labels.size(), [&](size_t v) {
     JointViewResult r;
     r.labels = s.labels[v];
     r.depth = s.depth[v];
@@ -245,7 +246,7 @@ void FrameMaps(const RunContext& c, SolvedFrame& s) {
     s.maps[v] =
         ToCameraSize(r, full.width, full.height, s.scale, s.initial[v], s.full_initial[v],
                      guided ? s.images[v] : cv::Mat(), guided ? s.full_images[v] : cv::Mat());
-  }
+  });
 }
 
 // View v's written camera-size flow of frame s.frame - 1, carried forward to
@@ -279,7 +280,7 @@ cv::Mat CarriedFlow(const RunContext& c, const SolvedFrame& s, int v) {
 // pixels: the scene flow (WriteFrameOutputs) moves the meshes with the finer
 // motion.
 void WriteFrameMaps(const RunContext& c, SolvedFrame& s, const std::vector<cv::Mat>& labels_t1) {
-  for (size_t v = 0; v < s.labels.size(); ++v) {
+  tbb::parallel_for(size_t{0}, s.labels.size(), [&](size_t v) {
     ViewMaps& maps = s.maps[v];
     if (c.o.frame_setup.flow_at_camera_size && !s.full_images_t1.empty()) {
       const bool objects = c.o.frame_setup.flow_object_matches && v < labels_t1.size();
@@ -301,7 +302,7 @@ void WriteFrameMaps(const RunContext& c, SolvedFrame& s, const std::vector<cv::M
       working.copyTo(s.flow[v], s.labels[v] > 0);
     }
     WriteViewMaps(c.out, c.names[v], s.frame, maps, s.full_images[v], c.o.picture_width, c.classes);
-  }
+  });
   s.maps.clear();
 }
 
@@ -329,20 +330,11 @@ void MeshDepths(SolvedFrame& s, const std::vector<FusedMesh>& fused) {
   });
 }
 
-// Frame f's outputs: the maps of `unwritten` (frame f - 1 when its maps
-// wait for f's labels, else null), one mesh per object (the segment's first
-// frame also starts each object's animation) and the animations tracked from
-// `previous` (frame f - 1, null at the segment's first frame) to it. f's own
-// maps are computed (FrameMaps) and wait for frame f + 1. Adds the parts'
-// seconds to `parts`.
-void WriteFrameOutputs(const RunContext& c, const Segment& seg, SolvedFrame& current,
-                       SolvedFrame* unwritten, const SolvedFrame* previous,
-                       std::map<int, AnimatedMesh>& animations, RunLog& parts) {
-  Timer timer;
-  FrameMaps(c, current);
-  if (unwritten) WriteFrameMaps(c, *unwritten, MapLabels(current));
-  parts.AddSegmentPart("maps", timer.Seconds());
-  timer.Restart();
+// One mesh per object of frame `current`, each written; at the segment's
+// first frame each also starts its object's animation.
+std::vector<FusedMesh> FuseFrameObjects(const RunContext& c, const Segment& seg,
+                                        const SolvedFrame& current,
+                                        std::map<int, AnimatedMesh>& animations) {
   const int f = current.frame;
   std::vector<FusedMesh> meshes;
   for (int id : ObjectIds(current)) {
@@ -361,7 +353,37 @@ void WriteFrameOutputs(const RunContext& c, const Segment& seg, SolvedFrame& cur
       a.positions.push_back(fused.mesh->vertices_);
     }
   }
-  parts.AddSegmentPart("fusion", timer.Seconds());
+  return meshes;
+}
+
+// Frame f's outputs: the maps of `unwritten` (frame f - 1 when its maps
+// wait for f's labels, else null), one mesh per object (FuseFrameObjects)
+// and the animations tracked from `previous` (frame f - 1, null at the
+// segment's first frame) to it. f's own maps are computed (FrameMaps) and
+// wait for frame f + 1. f - 1's maps and f's meshes need nothing of each
+// other, so they are made side by side: at a run's end nothing else keeps
+// the second core busy. Adds the parts' seconds to `parts`.
+void WriteFrameOutputs(const RunContext& c, const Segment& seg, SolvedFrame& current,
+                       SolvedFrame* unwritten, const SolvedFrame* previous,
+                       std::map<int, AnimatedMesh>& animations, RunLog& parts) {
+  Timer timer;
+  FrameMaps(c, current);
+  parts.AddSegmentPart("maps", timer.Seconds());
+  double maps_seconds = 0, fusion_seconds = 0;
+  std::vector<FusedMesh> meshes;
+  tbb::parallel_invoke(
+      [&] {
+        const Timer maps_timer;
+        if (unwritten) WriteFrameMaps(c, *unwritten, MapLabels(current));
+        maps_seconds = maps_timer.Seconds();
+      },
+      [&] {
+        const Timer fusion_timer;
+        meshes = FuseFrameObjects(c, seg, current, animations);
+        fusion_seconds = fusion_timer.Seconds();
+      });
+  parts.AddSegmentPart("maps", maps_seconds);
+  parts.AddSegmentPart("fusion", fusion_seconds);
   timer.Restart();
   if (c.o.fusion.depth_from_meshes) {
     MeshDepths(current, meshes);
