@@ -133,15 +133,6 @@ TEST(PipelineTest, RunsEndToEndAndBeatsTheInitialMasks) {
   }
 }
 
-// The realistic world (docs/synthetic.md), which nothing was tuned on: two
-// captured performers who touch, a detector's failures, no 2D keypoints. The
-// run must work from the masks alone, refine them (class and instance IoU
-// against GT above the detector's) and mesh every visible person at every
-// frame, with one id per person in every view and frame (eval.json
-// "identity"). Its flow must carry the GT masks through the frames
-// (S_e, docs/metrics.md) better than OpenCV's DIS, DeepFlow and Farneback
-// on the same images, and within 0.03 of what the true flow does (issue 23;
-// the true flow's S_e is not 0: the pixels that become hidden count).
 // S_e of the scene's flow (`ours`, EvaluateCapture's) against that of the
 // OpenCV flows on the capture's images and of the true flow, alike
 // (GtSilhouetteOverlap's protocol for all).
@@ -168,6 +159,15 @@ void ExpectFlowCarriesTheMasksAsTheTruthDoes(const fs::path& capture_dir,
   EXPECT_LT(std::abs(se - truth.Mean()), 0.03);
 }
 
+// The realistic world (docs/synthetic.md), which nothing was tuned on: two
+// captured performers who touch, a detector's failures, no 2D keypoints. The
+// run must work from the masks alone, refine them (class and instance IoU
+// against GT above the detector's) and mesh every visible person at every
+// frame, with one id per person in every view and frame (eval.json
+// "identity"). Its flow must carry the GT masks through the frames
+// (S_e, docs/metrics.md) better than OpenCV's DIS, DeepFlow and Farneback
+// on the same images, and within 0.03 of what the true flow does (issue 23;
+// the true flow's S_e is not 0: the pixels that become hidden count).
 TEST(PipelineTest, RealisticWorldFromTheDetectorsMasksAlone) {
   const fs::path data = DataDir() / "captured_meshes";
   U4D_SKIP_WITHOUT_SHARED_DATA(data);
